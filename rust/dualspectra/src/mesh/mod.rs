@@ -1,0 +1,161 @@
+//! Triangle meshes: the checked [`TriMesh`], file I/O, topology, generators.
+
+pub mod topology;
+pub mod generate;
+
+use crate::error::MeshError;
+use std::collections::HashMap;
+
+/// A validated triangle mesh: finite vertex positions `V (n x 3)` and faces `F (m x 3)`,
+/// 0-based, consistently usable by every later stage.
+///
+/// Invariants checked by [`TriMesh::new`]: at least one face; indices in range;
+/// finite coordinates; no face repeating a vertex; no zero-area face; every edge in
+/// at most two faces (edge-manifold); every vertex in some face.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TriMesh {
+    vertices: Vec<[f64; 3]>,
+    faces: Vec<[u32; 3]>,
+}
+
+impl TriMesh {
+    /// Build and validate a mesh. See the type's invariants; each violation is a distinct [`MeshError`].
+    pub fn new(vertices: Vec<[f64; 3]>, faces: Vec<[u32; 3]>) -> Result<Self, MeshError> {
+        validate(&vertices, &faces)?;
+        Ok(TriMesh { vertices, faces })
+    }
+
+    /// Build from flat arrays `[x0, y0, z0, x1, ...]` and `[i0, j0, k0, ...]` (as from C or numpy).
+    pub fn from_flat(vertices: &[f64], faces: &[u32]) -> Result<Self, MeshError> {
+        if vertices.len() % 3 != 0 {
+            return Err(MeshError::BadArrayLength { len: vertices.len(), stride: 3 });
+        }
+        if faces.len() % 3 != 0 {
+            return Err(MeshError::BadArrayLength { len: faces.len(), stride: 3 });
+        }
+        let v = vertices.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+        let f = faces.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+        Self::new(v, f)
+    }
+
+    /// Repair then build: drop vertices that belong to no face, and return the kept
+    /// original indices (`kept[new] = old`). Other checks as in [`TriMesh::new`].
+    pub fn new_dropping_isolated(
+        vertices: Vec<[f64; 3]>,
+        faces: Vec<[u32; 3]>,
+    ) -> Result<(Self, Vec<u32>), MeshError> {
+        let n = vertices.len();
+        for (fi, f) in faces.iter().enumerate() {
+            for &i in f {
+                if i as usize >= n {
+                    return Err(MeshError::IndexOutOfRange { face: fi, index: i as u64, n_vertices: n });
+                }
+            }
+        }
+        let mut used = vec![false; n];
+        faces.iter().flatten().for_each(|&i| used[i as usize] = true);
+        let kept: Vec<u32> = (0..n as u32).filter(|&i| used[i as usize]).collect();
+        let mut new_index = vec![u32::MAX; n];
+        for (new, &old) in kept.iter().enumerate() {
+            new_index[old as usize] = new as u32;
+        }
+        let v = kept.iter().map(|&i| vertices[i as usize]).collect();
+        let f = faces.iter().map(|f| f.map(|i| new_index[i as usize])).collect();
+        Ok((Self::new(v, f)?, kept))
+    }
+
+    pub fn vertices(&self) -> &[[f64; 3]] {
+        &self.vertices
+    }
+    pub fn faces(&self) -> &[[u32; 3]] {
+        &self.faces
+    }
+    pub fn n_vertices(&self) -> usize {
+        self.vertices.len()
+    }
+    pub fn n_faces(&self) -> usize {
+        self.faces.len()
+    }
+    /// Consume into `(V, F)`.
+    pub fn into_parts(self) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+        (self.vertices, self.faces)
+    }
+    /// The same connectivity with every position mapped by `f` (validated again).
+    pub fn map_positions(&self, f: impl Fn([f64; 3]) -> [f64; 3]) -> Result<Self, MeshError> {
+        Self::new(self.vertices.iter().map(|&p| f(p)).collect(), self.faces.clone())
+    }
+    /// Total surface area.
+    pub fn area(&self) -> f64 {
+        self.faces.iter().map(|f| triangle_area(self.vertices[f[0] as usize], self.vertices[f[1] as usize], self.vertices[f[2] as usize])).sum()
+    }
+    /// Axis-aligned bounding box diagonal length.
+    pub fn bbox_diagonal(&self) -> f64 {
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
+        for p in &self.vertices {
+            for d in 0..3 {
+                lo[d] = lo[d].min(p[d]);
+                hi[d] = hi[d].max(p[d]);
+            }
+        }
+        ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2) + (hi[2] - lo[2]).powi(2)).sqrt()
+    }
+}
+
+/// Area of the triangle `(a, b, c)`: `|(b - a) x (c - a)| / 2`.
+pub fn triangle_area(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
+    let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+    let x = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+    0.5 * (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt()
+}
+
+fn validate(vertices: &[[f64; 3]], faces: &[[u32; 3]]) -> Result<(), MeshError> {
+    let n = vertices.len();
+    if n == 0 {
+        return Err(MeshError::NoVertices);
+    }
+    if faces.is_empty() {
+        return Err(MeshError::NoFaces);
+    }
+    if let Some(v) = vertices.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
+        return Err(MeshError::NonFiniteCoordinate { vertex: v });
+    }
+    for (fi, f) in faces.iter().enumerate() {
+        for &i in f {
+            if i as usize >= n {
+                return Err(MeshError::IndexOutOfRange { face: fi, index: i as u64, n_vertices: n });
+            }
+        }
+        if f[0] == f[1] || f[1] == f[2] || f[0] == f[2] {
+            return Err(MeshError::RepeatedVertexInFace { face: fi });
+        }
+    }
+    // Degenerate: zero area relative to the squared longest edge (scale-free test).
+    for (fi, f) in faces.iter().enumerate() {
+        let [a, b, c] = f.map(|i| vertices[i as usize]);
+        let area = triangle_area(a, b, c);
+        let l2 = |p: [f64; 3], q: [f64; 3]| (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2);
+        let longest = l2(a, b).max(l2(b, c)).max(l2(c, a));
+        if !(area > 1e-14 * longest) {
+            return Err(MeshError::DegenerateFace { face: fi });
+        }
+    }
+    let mut edge_count: HashMap<(u32, u32), usize> = HashMap::with_capacity(faces.len() * 3 / 2 + 1);
+    for f in faces {
+        for e in 0..3 {
+            let (a, b) = (f[e], f[(e + 1) % 3]);
+            *edge_count.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+        }
+    }
+    if let Some((&(a, b), &count)) = edge_count.iter().filter(|(_, &c)| c > 2).min_by_key(|(k, _)| **k) {
+        return Err(MeshError::NonManifoldEdge { a, b, count });
+    }
+    let mut used = vec![false; n];
+    faces.iter().flatten().for_each(|&i| used[i as usize] = true);
+    let isolated = used.iter().filter(|&&u| !u).count();
+    if let Some(v) = used.iter().position(|&u| !u) {
+        return Err(MeshError::IsolatedVertex { vertex: v, count: isolated });
+    }
+    Ok(())
+}

@@ -1,0 +1,1 @@
+//! Generalized symmetric eigenproblems $W\phi = \lambda M \phi$ (see `eigensolver`).
