@@ -1,0 +1,103 @@
+"""One localization run, in the foreground or on a worker thread; free of ``bpy``.
+
+``dualspectra.localize`` releases the GIL while it computes, so a Python thread running
+it leaves Blender's interface responsive. The thread only touches this object: the
+latest progress report, a cancel flag that the progress callback turns into ``False``
+(which makes the library stop and raise ``dualspectra.Cancelled``), and the outcome.
+The operator's modal timer polls it; nothing here calls Blender.
+"""
+
+import threading
+import time
+
+
+class LocalizeJob:
+    """Run ``module.localize(full_v, full_f, partial_v, partial_f, **options)`` once.
+
+    ``module`` is the imported ``dualspectra`` package (its ``localize`` and
+    ``Cancelled``). After the run exactly one of ``result`` (the Localization),
+    ``cancelled`` (True) or ``error`` (the exception) is set. ``on_progress(fraction,
+    stage)``, if given, is called after each report from the running thread (for a
+    foreground run, to update Blender's progress cursor).
+    """
+
+    def __init__(self, module, full_vertices, full_faces, partial_vertices, partial_faces, on_progress=None, **options):
+        self._module = module
+        self._on_progress = on_progress
+        self._args = (full_vertices, full_faces, partial_vertices, partial_faces)
+        self._options = options
+        self._cancel = threading.Event()
+        self._done = threading.Event()
+        self._lock = threading.Lock()
+        self._thread = None
+        self._fraction = 0.0
+        self._stage = "starting"
+        self._reports = 0
+        self.started_at = None
+        self.finished_at = None
+        self.result = None
+        self.error = None
+        self.cancelled = False
+
+    # -- progress, called by the library from the running thread --------------------------
+    def _progress(self, fraction, stage):
+        with self._lock:
+            self._fraction = min(max(float(fraction), 0.0), 1.0)
+            self._stage = str(stage)
+            self._reports += 1
+        if self._on_progress is not None:
+            self._on_progress(self._fraction, self._stage)
+        return not self._cancel.is_set()
+
+    def progress(self):
+        """``(fraction in [0, 1], stage name, number of reports so far)``."""
+        with self._lock:
+            return self._fraction, self._stage, self._reports
+
+    # -- running ------------------------------------------------------------------------------
+    def run(self):
+        """Run in the calling thread; returns when finished, cancelled or failed."""
+        self.started_at = time.monotonic()
+        try:
+            self.result = self._module.localize(*self._args, progress=self._progress, **self._options)
+        except self._module.Cancelled:
+            self.cancelled = True
+        except BaseException as exc:  # reported to the user by the operator, never lost
+            if self._cancel.is_set() and isinstance(exc, KeyboardInterrupt):
+                self.cancelled = True
+            else:
+                self.error = exc
+        finally:
+            self.finished_at = time.monotonic()
+            self._args = None  # free the arrays
+            self._done.set()
+
+    def start(self):
+        """Run on a daemon thread and return at once; poll :attr:`done`."""
+        if self._thread is not None:
+            raise RuntimeError("job already started")
+        self._thread = threading.Thread(target=self.run, name="dualspectra-localize", daemon=True)
+        self._thread.start()
+
+    def cancel(self):
+        """Ask the run to stop at its next progress report."""
+        self._cancel.set()
+
+    @property
+    def cancel_requested(self):
+        return self._cancel.is_set()
+
+    @property
+    def done(self):
+        return self._done.is_set()
+
+    def wait(self, timeout=None):
+        """Block until finished (or ``timeout`` seconds); returns :attr:`done`."""
+        return self._done.wait(timeout)
+
+    @property
+    def elapsed(self):
+        if self.started_at is None:
+            return 0.0
+        end = self.finished_at if self.finished_at is not None else time.monotonic()
+        return end - self.started_at
