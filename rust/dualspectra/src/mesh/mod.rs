@@ -2,6 +2,7 @@
 
 pub mod topology;
 pub mod generate;
+pub mod io;
 
 use crate::error::MeshError;
 use std::collections::HashMap;
