@@ -1,0 +1,40 @@
+// MeshLab 2020.09 filter plugin: "Localize partial shape (dual spectra)".
+// Selects, on a full mesh layer, the region that a partial (possibly deformed) mesh layer is.
+// Only MeshLab glue: the computation is the dualspectra C ABI (see localize_job.h).
+#ifndef DUALSPECTRA_MESHLAB_FILTER_H
+#define DUALSPECTRA_MESHLAB_FILTER_H
+
+#include <common/interfaces.h>
+
+#include <dualspectra/dualspectra.h>
+
+class FilterDualSpectraPlugin : public QObject, public MeshFilterInterface
+{
+    Q_OBJECT
+    MESHLAB_PLUGIN_IID_EXPORTER(MESH_FILTER_INTERFACE_IID)
+    Q_INTERFACES(MeshFilterInterface)
+
+public:
+    enum { FP_LOCALIZE_PARTIAL };
+
+    FilterDualSpectraPlugin();
+
+    QString pluginName() const override;
+    QString filterName(FilterIDType filter) const override;
+    QString filterInfo(FilterIDType filter) const override;
+    FilterClass getClass(QAction* a) override;
+    FILTER_ARITY filterArity(QAction* a) const override;
+    int getPreConditions(QAction* a) const override;
+    int postCondition(QAction* a) const override;
+    void initParameterSet(QAction* a, MeshDocument& md, RichParameterList& par) override;
+    bool applyFilter(QAction* a, MeshDocument& md, const RichParameterList& par, vcg::CallBackPos* cb) override;
+
+private:
+    /// The filter itself, with typed parameters. On failure: false, `errorMessage` set and
+    /// the same text logged as a warning (meshlabserver prints the log, not errorMessage).
+    bool localizePartial(MeshModel* full, MeshModel* partial, const ds_options& options, bool writeScore,
+                         vcg::CallBackPos* cb);
+    bool fail(const QString& message);
+};
+
+#endif
