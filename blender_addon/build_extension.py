@@ -64,6 +64,8 @@ def build_legacy(wheel, out_dir):
         shutil.rmtree(dest)
     os.makedirs(dest)
     for rel in addon_files():
+        if rel == "blender_manifest.toml":
+            continue  # a legacy add-on has bl_info only
         os.makedirs(os.path.dirname(os.path.join(dest, rel)), exist_ok=True)
         shutil.copy2(os.path.join(ADDON, rel), os.path.join(dest, rel))
     with zipfile.ZipFile(wheel) as z:

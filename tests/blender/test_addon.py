@@ -1,0 +1,446 @@
+"""Headless test of the dualspectra Blender add-on, run inside Blender.
+
+    blender -b --factory-startup --python-exit-code 1 --python tests/blender/test_addon.py -- [options]
+    python tests/blender/test_addon.py [options]        # with the PyPI ``bpy`` module
+
+The add-on must be installed where Blender finds it: as a legacy add-on
+(``$BLENDER_USER_SCRIPTS/addons/dualspectra_blender`` with the ``dualspectra`` package
+beside it; default) or, with ``--extension ZIP``, installed here from the Blender 4.2+
+extension archive (the bundled wheel is installed by Blender). Then the test builds two
+meshes, a lumpy closed surface and a part of it cut by a plane moved by a rigid motion,
+gives both objects different transforms (non-uniform object scale included, the world
+shapes unchanged), runs the operator and checks the selected vertices against the cut.
+
+Exit status 1 on any failure (``--python-exit-code 1`` for the Blender binary).
+"""
+
+import argparse
+import sys
+import time
+import traceback
+
+import bpy
+import numpy as np
+from mathutils import Euler, Matrix, Vector
+
+# ---------------------------------------------------------------------------------------------
+# options and add-on installation
+
+
+def parse_args():
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:]
+    p = argparse.ArgumentParser(prog="test_addon.py")
+    p.add_argument("--extension", help="install this extension .zip (Blender 4.2+) instead of using a legacy add-on")
+    p.add_argument("--k", type=int, default=20, help="eigenvalues per spectrum for the localization runs")
+    p.add_argument("--subdivisions", type=int, default=4, help="icosphere subdivisions of the test shape")
+    p.add_argument("--min-iou", type=float, default=0.7, help="lower bound for the IoU of the selected region")
+    p.add_argument("--only", default="", help="comma-separated test names to run (default: all)")
+    return p.parse_args(argv)
+
+
+ARGS = parse_args()
+
+
+def install_addon():
+    """Enable the add-on and return its package name (``dualspectra_blender`` or ``bl_ext.*``)."""
+    import addon_utils
+
+    if ARGS.extension:
+        bpy.ops.extensions.package_install_files(filepath=ARGS.extension, repo="user_default", enable_on_install=True)
+        name = "bl_ext.user_default.dualspectra_blender"
+    else:
+        name = "dualspectra_blender"
+        errors = []
+        addon_utils.enable(name, default_set=True, handle_error=lambda exc: errors.append(exc))
+        if errors:
+            raise RuntimeError(f"enabling {name} failed: {errors[0]!r}")
+    if name not in sys.modules:
+        raise RuntimeError(f"add-on module {name} not loaded")
+    if not hasattr(bpy.ops, "dualspectra") or not hasattr(bpy.types, "DUALSPECTRA_OT_localize"):
+        raise RuntimeError("operator dualspectra.localize not registered")
+    return name
+
+
+ADDON = install_addon()
+mesh_data = sys.modules[ADDON + ".mesh_data"]
+job_module = sys.modules[ADDON + ".job"]
+library = sys.modules[ADDON + ".library"]
+dualspectra = library.load()
+print(f"Blender {bpy.app.version_string}, Python {sys.version.split()[0]}, add-on {ADDON}, "
+      f"dualspectra {getattr(dualspectra, '__version__', '?')} from {dualspectra.__file__}")
+
+# ---------------------------------------------------------------------------------------------
+# test shapes (world space) and objects
+
+
+def lumpy_surface(subdivisions):
+    """An asymmetric closed surface: an icosphere pushed out by three Gaussian bumps of different
+    size, then stretched into an ellipsoid. Returns world vertices ``(n, 3)`` and faces ``(m, 3)``."""
+    import bmesh
+
+    bm = bmesh.new()
+    try:
+        bmesh.ops.create_icosphere(bm, subdivisions=subdivisions, radius=1.0)
+        v = np.array([tuple(x.co) for x in bm.verts], dtype=np.float64)
+        bm.verts.index_update()
+        f = np.array([[x.index for x in face.verts] for face in bm.faces], dtype=np.int64)
+    finally:
+        bm.free()
+    u = v / np.linalg.norm(v, axis=1, keepdims=True)
+    bumps = [((1.0, 0.3, 0.2), 0.55, 0.20), ((-0.4, 1.0, -0.3), 0.35, 0.12), ((-0.3, -0.6, 1.0), 0.25, 0.08)]
+    r = np.ones(len(u))
+    for centre, height, width in bumps:
+        c = np.array(centre) / np.linalg.norm(centre)
+        r += height * np.exp(-np.sum((u - c) ** 2, axis=1) / width)
+    return u * r[:, None] * np.array([1.3, 1.0, 0.8]), f
+
+
+def cut_by_plane(v, f, normal, offset):
+    """The faces whose three vertices satisfy ``normal . p > offset``; returns the partial
+    mesh (compacted) and the full-mesh mask of its vertices (the ground-truth region)."""
+    side = v @ np.asarray(normal, dtype=np.float64) > offset
+    faces = f[side[f].all(axis=1)]
+    used = np.zeros(len(v), dtype=bool)
+    used[faces.ravel()] = True
+    new = np.full(len(v), -1)
+    new[used] = np.arange(used.sum())
+    return v[used], new[faces], used
+
+
+def make_object(name, world_vertices, faces, matrix_world):
+    """A mesh object whose world-space shape is ``world_vertices`` under ``matrix_world``."""
+    m = np.array(matrix_world, dtype=np.float64)
+    local = (world_vertices - m[:3, 3]) @ np.linalg.inv(m[:3, :3]).T
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata(local.tolist(), [], np.asarray(faces).tolist())
+    mesh.validate()
+    ob = bpy.data.objects.new(name, mesh)
+    bpy.context.scene.collection.objects.link(ob)
+    ob.matrix_world = Matrix(m.tolist())
+    return ob
+
+
+def rigid(v, angles, shift):
+    rot = np.array(Euler(angles).to_matrix(), dtype=np.float64)
+    return v @ rot.T + np.asarray(shift, dtype=np.float64)
+
+
+def affine(location, rotation, scale):
+    return Matrix.LocRotScale(Vector(location), Euler(rotation), Vector(scale))
+
+
+def select_only(*objects, active):
+    for ob in bpy.context.view_layer.objects:
+        ob.select_set(False)
+    for ob in objects:
+        ob.select_set(True)
+    bpy.context.view_layer.objects.active = active
+
+
+def selected_vertices(mesh):
+    sel = np.zeros(len(mesh.vertices), dtype=bool)
+    mesh.vertices.foreach_get("select", sel)
+    return sel
+
+
+def iou(a, b):
+    return float((a & b).sum()) / max(1, int((a | b).sum()))
+
+
+def clear_scene():
+    for ob in list(bpy.data.objects):
+        bpy.data.objects.remove(ob, do_unlink=True)
+    for me in list(bpy.data.meshes):
+        bpy.data.meshes.remove(me)
+
+
+FULL_V, FULL_F = lumpy_surface(ARGS.subdivisions)
+CUT_NORMAL, CUT_OFFSET = (0.9, 0.35, 0.25), 0.35
+PART_V, PART_F, TRUTH = cut_by_plane(FULL_V, FULL_F, CUT_NORMAL, CUT_OFFSET)
+PART_V_MOVED = rigid(PART_V, (1.0, -0.5, 2.0), (-4.0, 1.0, 0.5))
+FULL_MATRIX = affine((1.0, 2.0, 3.0), (0.3, 0.2, 0.1), (1.5, 1.5, 1.5))
+PART_MATRIX = affine((-4.0, 0.0, 0.0), (0.2, 0.9, -0.4), (0.5, 2.0, 1.0))  # non-uniform object scale
+print(f"test shapes: full {len(FULL_V)} vertices / {len(FULL_F)} faces, partial {len(PART_V)} / {len(PART_F)}, "
+      f"ground truth {int(TRUTH.sum())} vertices ({TRUTH.mean():.0%})")
+
+
+def scene_pair():
+    clear_scene()
+    full = make_object("Full", FULL_V, FULL_F, FULL_MATRIX)
+    part = make_object("Partial", PART_V_MOVED, PART_F, PART_MATRIX)
+    select_only(full, part, active=full)
+    return full, part
+
+
+# ---------------------------------------------------------------------------------------------
+# tests: bpy-free logic against Blender's own data and maths
+
+
+def test_world_positions_match_mathutils():
+    rng = np.random.default_rng(1)
+    m = affine(rng.normal(size=3), rng.normal(size=3), rng.uniform(0.2, 3.0, size=3))
+    local = rng.normal(size=(50, 3))
+    got = mesh_data.world_positions(local, np.array(m))
+    want = np.array([tuple(m @ Vector(p)) for p in local])
+    scale = np.abs(want).max()
+    assert np.abs(got - want).max() <= 64 * np.finfo(np.float32).eps * scale, np.abs(got - want).max()
+
+
+def test_triangle_mesh_drops_loose_and_degenerate():
+    v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [5, 5, 5], [2, 0, 0], [1, 1, 0]], dtype=float)
+    # triangle 1 is degenerate (collinear 0, 1, 4); vertex 3 is loose
+    f = np.array([[0, 1, 2], [0, 1, 4], [1, 5, 2]])
+    tm = mesh_data.triangle_mesh(v, f, name="t")
+    assert tm.dropped_faces == 1
+    assert tm.kept.tolist() == [0, 1, 2, 5]
+    assert np.array_equal(tm.vertices[tm.faces], v[f[[0, 2]]])
+    back = tm.to_source(np.arange(4) + 1, 0)
+    assert back.tolist() == [1, 2, 3, 0, 0, 4]
+    for bad_f, word in ((np.zeros((0, 3), int), "no faces"), (np.array([[0, 1, 4]]), "degenerate")):
+        try:
+            mesh_data.triangle_mesh(v, bad_f, name="t")
+        except mesh_data.MeshDataError as exc:
+            assert word in str(exc), exc
+        else:
+            raise AssertionError("expected MeshDataError")
+
+
+def test_nearest_indices_match_brute_force():
+    rng = np.random.default_rng(2)
+    points = rng.normal(size=(300, 3))
+    queries = rng.normal(size=(97, 3))
+    got = mesh_data.nearest_indices(queries, points, chunk=10)
+    want = np.array([np.argmin(((points - q) ** 2).sum(axis=1)) for q in queries])
+    assert np.array_equal(got, want)
+    assert np.array_equal(mesh_data.nearest_indices(points, points), np.arange(len(points)))
+
+
+def test_region_helpers_match_blender_topology():
+    clear_scene()
+    bpy.ops.mesh.primitive_grid_add(x_subdivisions=7, y_subdivisions=5)  # quads
+    bpy.ops.mesh.primitive_cone_add(vertices=9)  # triangles + 9-gon
+    for ob in list(bpy.data.objects):
+        mesh = ob.data
+        rng = np.random.default_rng(len(mesh.vertices))
+        mask = rng.random(len(mesh.vertices)) < 0.6
+        ev = np.array([tuple(e.vertices) for e in mesh.edges])
+        lv = np.array([lp.vertex_index for lp in mesh.loops])
+        start = np.array([p.loop_start for p in mesh.polygons])
+        total = np.array([p.loop_total for p in mesh.polygons])
+        assert mesh_data.edges_in_region(ev, mask).tolist() == [all(mask[list(e.vertices)]) for e in mesh.edges]
+        assert mesh_data.polygons_in_region(lv, start, total, mask).tolist() == [all(mask[list(p.vertices)]) for p in mesh.polygons]
+
+
+def test_read_object_world_space_and_triangles():
+    full, part = scene_pair()
+    operators = sys.modules[ADDON + ".operators"]
+    tm, remap = operators.read_object(bpy.context, part, use_modifiers=True)
+    assert remap is None
+    assert np.abs(tm.vertices - PART_V_MOVED).max() < 1e-5 * np.abs(PART_V_MOVED).max()
+    assert np.array_equal(np.sort(np.sort(tm.faces, axis=1), axis=0), np.sort(np.sort(PART_F, axis=1), axis=0))
+    # a topology-changing modifier: results are mapped back to the original vertices
+    full.modifiers.new("sub", 'SUBSURF').levels = 1
+    tm, remap = operators.read_object(bpy.context, full, use_modifiers=True)
+    assert len(tm.vertices) > len(FULL_V) and remap is not None and len(remap) == len(FULL_V)
+    # subdivision keeps (smoothed) original vertices first: each maps near itself
+    assert np.linalg.norm(tm.to_source(tm.vertices, np.nan)[remap] - FULL_V, axis=1).max() < 0.1
+
+
+# ---------------------------------------------------------------------------------------------
+# tests: the worker job (the modal operator's background path) with the real library
+
+
+def test_job_thread_reports_progress_and_cancels():
+    tm_full = mesh_data.triangle_mesh(FULL_V, FULL_F)
+    tm_part = mesh_data.triangle_mesh(PART_V_MOVED, PART_F)
+    seen = []
+    job = job_module.LocalizeJob(dualspectra, tm_full.vertices, tm_full.faces, tm_part.vertices, tm_part.faces,
+                                 on_progress=lambda f, s: seen.append(f), k=ARGS.k)
+    job.start()
+    t0 = time.monotonic()
+    while job.progress()[2] == 0 and not job.done and time.monotonic() - t0 < 120:
+        time.sleep(0.01)  # the main thread keeps running while the worker computes
+    assert not job.done or job.error is None, f"failed before the first progress report: {job.error!r}"
+    job.cancel()
+    assert job.wait(120), "worker did not stop within 120 s of the cancel request"
+    assert job.cancelled and job.result is None and job.error is None, (job.cancelled, job.error)
+    assert seen and all(0.0 <= f <= 1.0 for f in seen), seen
+
+
+# ---------------------------------------------------------------------------------------------
+# tests: the operator
+
+RESULT = {}
+
+
+def run_localize(**kw):
+    t0 = time.monotonic()
+    ret = bpy.ops.dualspectra.localize(k=ARGS.k, **kw)
+    return ret, time.monotonic() - t0
+
+
+def test_operator_selects_the_cut_region():
+    full, part = scene_pair()
+    ret, seconds = run_localize(partial_object="")  # default: the other selected mesh
+    assert ret == {'FINISHED'}, ret
+    mesh = full.data
+    sel = selected_vertices(mesh)
+    score = np.zeros(len(mesh.vertices), dtype=np.float32)
+    mesh.attributes["dualspectra_score"].data.foreach_get("value", score)
+    region_attr = np.zeros(len(mesh.vertices), dtype=bool)
+    mesh.attributes["dualspectra_region"].data.foreach_get("value", region_attr)
+    assert "dualspectra_color" in mesh.attributes
+    value = iou(sel, TRUTH)
+    precision = (sel & TRUTH).sum() / max(1, sel.sum())
+    recall = (sel & TRUTH).sum() / TRUTH.sum()
+    print(f"    operator: {seconds:.1f} s, {sel.sum()} selected, IoU {value:.3f}, precision {precision:.3f}, recall {recall:.3f}")
+    RESULT["selection"] = sel
+    assert np.array_equal(region_attr, sel)
+    assert np.all((score >= 0) & (score <= 1))
+    edges = np.array([tuple(e.vertices) for e in mesh.edges])
+    assert [e.select for e in mesh.edges] == (sel[edges[:, 0]] & sel[edges[:, 1]]).tolist()
+    assert [p.select for p in mesh.polygons] == [bool(sel[list(p.vertices)].all()) for p in mesh.polygons]
+    assert value >= ARGS.min_iou, f"IoU {value:.3f} < {ARGS.min_iou}"
+
+
+def world_arrays(ob):
+    """World positions ``matrix_world @ co`` (float32 ``co`` as Blender stores them) and triangles,
+    read with the plain bpy API."""
+    me = ob.data
+    co = np.array([tuple(v.co) for v in me.vertices], dtype=np.float32).astype(np.float64)
+    m = np.array(ob.matrix_world, dtype=np.float64)
+    if hasattr(me, "calc_loop_triangles"):
+        me.calc_loop_triangles()
+    tris = np.array([tuple(t.vertices) for t in me.loop_triangles], dtype=np.int64)
+    return co @ m[:3, :3].T + m[:3, 3], tris
+
+
+def test_operator_equals_direct_call_in_world_space():
+    """The operator's selection is the library's region for the meshes as they are in world
+    space, whatever the object transforms (here different, one with non-uniform scale)."""
+    if "selection" not in RESULT:
+        raise Skip("needs test_operator_selects_the_cut_region")
+    full, part = scene_pair()
+    fv, ff = world_arrays(full)
+    pv, pf = world_arrays(part)
+    assert np.abs(fv - FULL_V).max() < 1e-5 * np.abs(FULL_V).max()
+    assert np.abs(pv - PART_V_MOVED).max() < 1e-5 * np.abs(PART_V_MOVED).max()
+    res = dualspectra.localize(fv, ff, pv, pf, mode="dual", k=ARGS.k, alpha=0.33, seed=0)
+    direct = np.asarray(res.region, dtype=bool)
+    assert np.array_equal(direct, RESULT["selection"]), f"differ on {(direct != RESULT['selection']).sum()} vertices"
+
+
+def test_invoke_in_edit_mode_headless():
+    """Without a window, INVOKE falls back to the foreground path; edit mode is kept and the
+    edit-mode selection is the region; one undo step restores the previous selection."""
+    if "selection" not in RESULT:
+        raise Skip("needs test_operator_selects_the_cut_region")
+    full, part = scene_pair()
+    bpy.ops.object.mode_set(mode='EDIT')
+    bpy.ops.mesh.select_all(action='DESELECT')
+    ret = bpy.ops.dualspectra.localize('INVOKE_DEFAULT', k=ARGS.k, partial_object=part.name)
+    assert ret == {'FINISHED'}, ret
+    assert full.mode == 'EDIT'
+    import bmesh
+
+    bm = bmesh.from_edit_mesh(full.data)
+    sel = np.array([v.select for v in bm.verts])
+    assert np.array_equal(sel, RESULT["selection"]), f"differ on {(sel != RESULT['selection']).sum()} vertices"
+    bpy.ops.object.mode_set(mode='OBJECT')
+
+
+def test_undo_restores_selection():
+    if "selection" not in RESULT:
+        raise Skip("needs test_operator_selects_the_cut_region")
+    full, part = scene_pair()
+    full.data.vertices.foreach_set("select", np.zeros(len(full.data.vertices), dtype=bool))
+    bpy.ops.ed.undo_push(message="before")
+    ret, _ = run_localize(partial_object=part.name)
+    assert ret == {'FINISHED'}
+    assert selected_vertices(bpy.data.objects["Full"].data).sum() > 0
+    bpy.ops.ed.undo()
+    mesh = bpy.data.objects["Full"].data
+    assert selected_vertices(mesh).sum() == 0 and "dualspectra_score" not in mesh.attributes
+
+
+def expect_operator_error(words, **kw):
+    """bpy.ops raises RuntimeError when the operator reported an ERROR (it returned CANCELLED)."""
+    try:
+        ret = bpy.ops.dualspectra.localize(**kw)
+    except RuntimeError as exc:
+        assert all(w in str(exc) for w in words), f"{exc} lacks {words}"
+        return str(exc)
+    raise AssertionError(f"no error reported; returned {ret}")
+
+
+def test_error_partial_without_faces():
+    full, _ = scene_pair()
+    mesh = bpy.data.meshes.new("Edges")
+    mesh.from_pydata([(0, 0, 0), (1, 0, 0), (0, 1, 0)], [(0, 1), (1, 2)], [])
+    ob = bpy.data.objects.new("Edges", mesh)
+    bpy.context.scene.collection.objects.link(ob)
+    full.data.vertices.foreach_set("select", np.zeros(len(full.data.vertices), dtype=bool))
+    msg = expect_operator_error(["no faces", "Edges"], partial_object="Edges")
+    print("    reported:", msg.strip())
+    assert selected_vertices(full.data).sum() == 0 and "dualspectra_score" not in full.data.attributes
+
+
+def test_error_no_partial_chosen():
+    full, _ = scene_pair()
+    select_only(full, active=full)
+    expect_operator_error(["select"], partial_object="")
+    expect_operator_error(["active"], partial_object="Full")
+    expect_operator_error(["no object"], partial_object="Nope")
+
+
+def test_error_non_manifold_partial_reported_by_library():
+    full, _ = scene_pair()
+    # three triangles on one edge: the library's MeshError, reported, not raised
+    v = [(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1)]
+    mesh = bpy.data.meshes.new("Fin")
+    mesh.from_pydata(v, [], [(0, 1, 2), (1, 0, 3), (0, 1, 4)])
+    ob = bpy.data.objects.new("Fin", mesh)
+    bpy.context.scene.collection.objects.link(ob)
+    msg = expect_operator_error(["MeshError", "manifold"], partial_object="Fin")
+    print("    reported:", msg.strip())
+
+
+def test_poll_needs_active_mesh():
+    clear_scene()
+    bpy.ops.object.empty_add()
+    assert not bpy.ops.dualspectra.localize.poll()
+
+
+# ---------------------------------------------------------------------------------------------
+
+
+class Skip(Exception):
+    pass
+
+
+def main():
+    tests = [(n, f) for n, f in globals().items() if n.startswith("test_") and callable(f)]
+    if ARGS.only:
+        wanted = set(ARGS.only.split(","))
+        tests = [(n, f) for n, f in tests if n in wanted]
+    failed = []
+    for name, fn in tests:
+        t0 = time.monotonic()
+        try:
+            fn()
+        except Skip as exc:
+            print(f"SKIP {name}: {exc}")
+            continue
+        except BaseException:
+            failed.append(name)
+            print(f"FAIL {name} ({time.monotonic() - t0:.1f} s)")
+            traceback.print_exc()
+            continue
+        print(f"ok   {name} ({time.monotonic() - t0:.1f} s)")
+    print(f"{len(tests) - len(failed)} of {len(tests)} passed" + (f"; failed: {', '.join(failed)}" if failed else ""))
+    sys.stdout.flush()
+    if failed:
+        sys.exit(1)
+
+
+main()
