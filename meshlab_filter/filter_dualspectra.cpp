@@ -166,7 +166,14 @@ bool FilterDualSpectraPlugin::localizePartial(MeshModel* full, MeshModel* partia
             fullArrays.n_unreferenced_vertices, qUtf8Printable(full->label()));
 
     const dsml::LocalizeOutcome out = dsml::run_localize(fullArrays, partialArrays, options, cb);
-    if (out.status != DS_OK) return fail(QString::fromStdString(out.error));
+    if (out.status != DS_OK) {
+        QString message = QString::fromStdString(out.error);
+        const size_t skipped = fullArrays.n_deleted_vertices + fullArrays.n_unreferenced_vertices +
+                               partialArrays.n_deleted_vertices + partialArrays.n_unreferenced_vertices;
+        if (out.status == DS_INVALID_MESH && skipped > 0)
+            message += "; vertex numbers count only the live vertices used by faces";
+        return fail(message);
+    }
 
     const size_t n = dsml::select_region(full->cm, fullArrays, out.region.data());
     full->cm.svn = int(n);

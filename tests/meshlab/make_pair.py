@@ -7,7 +7,8 @@ re-indexed, then moved by a rigid motion (rotation + translation): it is a part 
 shape, placed elsewhere. The expected region is the set of full-mesh vertices the part kept.
 
 Outputs in `--out`: full.off, partial.off, expected_region.txt (one full-mesh vertex index per
-line), points.off (the part's vertices without faces: a point cloud, for the error path).
+line), points.off (the part's vertices without faces: a point cloud) and nonmanifold.off (three
+triangles on one edge, which the library rejects), for the error paths.
 """
 
 import argparse
@@ -108,6 +109,8 @@ def main():
     write_off(os.path.join(args.out, "full.off"), full, faces)
     write_off(os.path.join(args.out, "partial.off"), part, part_faces)
     write_off(os.path.join(args.out, "points.off"), part, [])
+    write_off(os.path.join(args.out, "nonmanifold.off"),
+              [(0, 0, 0), (1, 0, 0), (0.5, 1, 0), (0.5, -1, 0), (0.5, 0, 1)], [(0, 1, 2), (1, 0, 3), (0, 1, 4)])
     with open(os.path.join(args.out, "expected_region.txt"), "w") as f:
         f.write("".join("%d\n" % i for i in region))
     print("full: %d vertices, %d faces; partial: %d vertices, %d faces (%.1f%% of the full vertices)"
