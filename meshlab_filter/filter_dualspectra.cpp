@@ -99,9 +99,11 @@ void FilterDualSpectraPlugin::initParameterSet(QAction* action, MeshDocument& md
     if (ID(action) != FP_LOCALIZE_PARTIAL) return;
     const ds_options def = ds_options_default();
     MeshModel* full = md.mm();
-    par.addParam(RichMesh("FullMesh", full, &md, "Full mesh",
+    // RichMesh asserts (active in Debian's build) that a non-null default is in the document.
+    MeshDocument* doc = (full != nullptr && md.meshList.contains(full)) ? &md : nullptr;
+    par.addParam(RichMesh("FullMesh", doc ? full : nullptr, doc, "Full mesh",
                           "The complete shape. The matched region is selected on this layer."));
-    par.addParam(RichMesh("PartialMesh", otherLayer(md, full), &md, "Partial mesh",
+    par.addParam(RichMesh("PartialMesh", doc ? otherLayer(md, full) : nullptr, doc, "Partial mesh",
                           "The part to localize: a triangle mesh, possibly a deformed copy of a part of the "
                           "full mesh. It must be a different layer with faces (not a point cloud)."));
     par.addParam(RichEnum("Mode", 0, modeNames(), "Mode",

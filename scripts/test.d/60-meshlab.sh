@@ -18,8 +18,11 @@ else
   cmake -S meshlab_filter -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMESHLAB_SCALAR=float \
         >"$build.configure.log" 2>&1 || { cat "$build.configure.log"; exit 1; }
 fi
-cmake --build "$build" --target filter_dualspectra -j2
+cmake --build "$build" --target filter_dualspectra meshlab_layer_arrays_test -j2
 plugin=$(find "$build" -name libfilter_dualspectra.so -print -quit)
 [ -n "$plugin" ] || { echo "meshlab: libfilter_dualspectra.so not built" >&2; exit 1; }
+
+# vcg mesh <-> C arrays (deleted/unreferenced vertices, index map, selection mapping)
+"$(find "$build" -name meshlab_layer_arrays_test -type f -print -quit)"
 
 python3 tests/meshlab/test_meshlab_filter.py --plugin "$plugin"
