@@ -1,0 +1,398 @@
+//! The $k$ smallest eigenpairs of $H\phi = \lambda M\phi$, $H = W + \mathrm{diag}(m \odot v)$,
+//! $M = \mathrm{diag}(m)$ (ALGORITHM.md, "Spectra").
+//!
+//! **Shift-invert.** With a shift $\sigma < 0$, $K = H - \sigma M$ is symmetric positive
+//! definite ($W \succeq 0$, $v \ge 0$, $m > 0$), and with $D = M^{1/2}$
+//! $$S = D K^{-1} D, \qquad S y = \theta y \iff H\phi = \lambda M\phi,\quad
+//! \lambda = \sigma + 1/\theta,\quad \phi = D^{-1} y .$$
+//! The smallest $\lambda$ are the largest $\theta$, well separated, so a Krylov method on $S$
+//! converges in a few dozen applications of $K^{-1}$ (one sparse Cholesky solve each). The
+//! orthonormal $y$ give $M$-orthonormal $\phi$: $\Phi^\top M \Phi = Y^\top Y = I$.
+//!
+//! **Cold solve**: thick-restart Lanczos (Krylov-Schur, faer's `partial_self_adjoint_eigen`)
+//! from a fixed pseudo-random start vector. **Warm solve** ([`HamiltonianSolver`]): the
+//! previous eigenvectors start a block Rayleigh-Ritz iteration (see `block`).
+//!
+//! **Shift.** $\sigma = -1/\sum_j m_j$ by default: the eigenvalue unit of a surface of that
+//! area (a unit sphere has $\lambda_1 \sum m = 8\pi$, a unit-area disk with Dirichlet
+//! boundary $\approx 18$). A tiny $|\sigma|$ makes the zero eigenvalue of a closed mesh
+//! swamp the others ($\theta_0 = 1/|\sigma|$) and costs accuracy; a huge one compresses the
+//! wanted $\theta$ together and costs iterations.
+
+use super::block;
+use super::dense::dense_smallest;
+use super::factor::ShiftedFactor;
+use super::spectrum::{EigenInfo, EigenParams, Spectrum};
+use crate::error::{Error, Result};
+use crate::operators::SparseMatrix;
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::matrix_free::eigen::{partial_self_adjoint_eigen, partial_self_adjoint_eigen_scratch, PartialEigenParams};
+use faer::matrix_free::LinOp;
+use faer::reborrow::ReborrowMut;
+use faer::{Col, Mat, MatMut, MatRef, Par};
+
+/// Below this size (or `3 k`), the dense fallback is used.
+const DENSE_MAX: usize = 200;
+
+/// The $k$ smallest eigenpairs of $W\phi = \lambda\,\mathrm{diag}(m)\,\phi$.
+///
+/// `w`: `n x n` symmetric positive semi-definite (already Dirichlet-restricted by the caller),
+/// `mass`: the `n` positive diagonal entries of $M$. Errors: `k == 0` or `k >= n`, wrong
+/// lengths, non-finite entries, non-positive mass, asymmetric `w`, failed factorisation.
+/// One-shot form of [`HamiltonianSolver`] with $v = 0$ (always a cold solve).
+pub fn generalized_eigen(w: &SparseMatrix, mass: &[f64], params: &EigenParams) -> Result<Spectrum> {
+    let mut solver = HamiltonianSolver::new(w, mass, params.clone())?;
+    let zero = vec![0.0; solver.n()];
+    solver.solve_cold(&zero)?;
+    Ok(solver.take_spectrum().expect("solve_cold stored a spectrum"))
+}
+
+/// Solver of $(W + \mathrm{diag}(m \odot v))\phi = \lambda\,\mathrm{diag}(m)\,\phi$ for a
+/// sequence of potentials $v \ge 0$ on one pencil $(W, m)$.
+///
+/// Built once per $(W, m)$: checks the input and runs the symbolic Cholesky analysis of the
+/// pattern of $W$ plus the diagonal. Each [`solve`](Self::solve) factorises
+/// $K = W + \mathrm{diag}(m \odot (v - \sigma))$ numerically and, when a previous spectrum is
+/// there and `params.warm_start`, starts from its eigenvectors (falling back to a cold solve
+/// if the warm iteration does not converge). Deterministic: the same sequence of calls gives
+/// bitwise the same results.
+#[derive(Debug)]
+pub struct HamiltonianSolver {
+    params: EigenParams,
+    mass: Vec<f64>,
+    sqrt_m: Vec<f64>,
+    inv_sqrt_m: Vec<f64>,
+    sigma: f64,
+    factor: ShiftedFactor,
+    potential: Vec<f64>,
+    spectrum: Option<Spectrum>,
+}
+
+impl HamiltonianSolver {
+    /// Check `(w, mass, params)` and analyse the sparsity of `w`. See [`generalized_eigen`]
+    /// for the conditions.
+    pub fn new(w: &SparseMatrix, mass: &[f64], params: EigenParams) -> Result<Self> {
+        let n = w.nrows();
+        if mass.len() != n {
+            return Err(Error::InvalidArgument(format!(
+                "mass has {} entries, W is {n} x {n}",
+                mass.len()
+            )));
+        }
+        if params.k == 0 || params.k >= n {
+            return Err(Error::InvalidArgument(format!(
+                "k = {} must be in 1..{n} (n = {n})",
+                params.k
+            )));
+        }
+        if !(params.tol.is_finite() && params.tol > 0.0) {
+            return Err(Error::InvalidArgument(format!("tol = {} must be positive", params.tol)));
+        }
+        if let Some((i, &mi)) = mass.iter().enumerate().find(|(_, &m)| !(m.is_finite() && m > 0.0)) {
+            return Err(Error::InvalidArgument(format!(
+                "mass[{i}] = {mi} is not a positive finite number"
+            )));
+        }
+        let total: f64 = mass.iter().sum();
+        let sigma = match params.shift {
+            Some(s) if s.is_finite() && s < 0.0 => s,
+            Some(s) => {
+                return Err(Error::InvalidArgument(format!(
+                    "shift = {s} must be negative and finite"
+                )))
+            }
+            None => -1.0 / total,
+        };
+        if !sigma.is_finite() || sigma >= 0.0 {
+            return Err(Error::InvalidArgument(
+                "the total mass is not finite and positive".into(),
+            ));
+        }
+        let factor = ShiftedFactor::new(w)?;
+        Ok(HamiltonianSolver {
+            sqrt_m: mass.iter().map(|m| m.sqrt()).collect(),
+            inv_sqrt_m: mass.iter().map(|m| 1.0 / m.sqrt()).collect(),
+            mass: mass.to_vec(),
+            sigma,
+            factor,
+            potential: vec![0.0; n],
+            spectrum: None,
+            params,
+        })
+    }
+
+    /// Number of unknowns `n`.
+    pub fn n(&self) -> usize {
+        self.factor.n()
+    }
+
+    /// The shift $\sigma$ in use.
+    pub fn shift(&self) -> f64 {
+        self.sigma
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &EigenParams {
+        &self.params
+    }
+
+    /// The mass diagonal $m$.
+    pub fn mass(&self) -> &[f64] {
+        &self.mass
+    }
+
+    /// The last computed spectrum, if any.
+    pub fn spectrum(&self) -> Option<&Spectrum> {
+        self.spectrum.as_ref()
+    }
+
+    /// Move the last spectrum out (the next solve is then cold).
+    pub fn take_spectrum(&mut self) -> Option<Spectrum> {
+        self.spectrum.take()
+    }
+
+    /// Forget the previous spectrum: the next solve is cold.
+    pub fn reset(&mut self) {
+        self.spectrum = None;
+    }
+
+    /// Eigenpairs for the potential `potential` (length `n`, finite, `>= 0`), warm-started
+    /// from the previous solve when there is one and `params.warm_start`.
+    pub fn solve(&mut self, potential: &[f64]) -> Result<&Spectrum> {
+        self.prepare(potential)?;
+        if self.params.warm_start && self.spectrum.is_some() {
+            if let Some(s) = self.warm()? {
+                self.spectrum = Some(s);
+                return Ok(self.spectrum.as_ref().expect("just stored"));
+            }
+        }
+        let s = self.cold()?;
+        self.spectrum = Some(s);
+        Ok(self.spectrum.as_ref().expect("just stored"))
+    }
+
+    /// Eigenpairs for `potential`, ignoring any previous solve.
+    pub fn solve_cold(&mut self, potential: &[f64]) -> Result<&Spectrum> {
+        self.prepare(potential)?;
+        let s = self.cold()?;
+        self.spectrum = Some(s);
+        Ok(self.spectrum.as_ref().expect("just stored"))
+    }
+
+    /// Validate the potential and factorise $K = W + \mathrm{diag}(m \odot (v - \sigma))$.
+    fn prepare(&mut self, potential: &[f64]) -> Result<()> {
+        let n = self.n();
+        if potential.len() != n {
+            return Err(Error::InvalidArgument(format!(
+                "potential has {} entries, expected {n}",
+                potential.len()
+            )));
+        }
+        if let Some((i, &vi)) = potential
+            .iter()
+            .enumerate()
+            .find(|(_, &v)| !(v.is_finite() && v >= 0.0))
+        {
+            return Err(Error::InvalidArgument(format!(
+                "potential[{i}] = {vi} is not finite and >= 0"
+            )));
+        }
+        self.potential.copy_from_slice(potential);
+        let d: Vec<f64> = self
+            .mass
+            .iter()
+            .zip(potential)
+            .map(|(m, v)| m * (v - self.sigma))
+            .collect();
+        self.factor.factorize(&d)
+    }
+
+    /// $m \odot v$, the diagonal added to $W$.
+    fn extra_diag(&self) -> Vec<f64> {
+        self.mass.iter().zip(&self.potential).map(|(m, v)| m * v).collect()
+    }
+
+    fn cold(&self) -> Result<Spectrum> {
+        let n = self.n();
+        let k = self.params.k;
+        if n <= DENSE_MAX.max(3 * k + 2) {
+            let extra = self.extra_diag();
+            let (values, vectors) = dense_smallest(&self.factor, &extra, &self.inv_sqrt_m, k)?;
+            return Ok(self.finish(values, vectors, 0, false, true));
+        }
+        let v0 = Col::from_fn(n, |i| start_value(i as u64, 0) * self.sqrt_m[i]);
+        let (thetas, y, restarts) = self.krylov_schur(v0.as_ref())?;
+        let values: Vec<f64> = thetas.iter().map(|t| self.sigma + 1.0 / t).collect();
+        let vectors = Mat::from_fn(n, k, |i, j| y[(i, j)] * self.inv_sqrt_m[i]);
+        Ok(self.finish(values, vectors, restarts, false, true))
+    }
+
+    fn warm(&self) -> Result<Option<Spectrum>> {
+        let prev = self.spectrum.as_ref().expect("warm needs a previous spectrum");
+        let out = block::refine(
+            &self.factor,
+            &self.mass,
+            &self.potential,
+            self.sigma,
+            prev.vectors.as_ref(),
+            self.params.tol,
+            self.params.max_iter,
+        )?;
+        Ok(out.map(|(values, vectors, iters)| self.finish(values, vectors, iters, true, true)))
+    }
+
+    /// Krylov-Schur on $S = D K^{-1} D$; returns the `k` largest $\theta$ (descending), their
+    /// orthonormal $y$ and the restart count.
+    fn krylov_schur(&self, v0: faer::ColRef<'_, f64>) -> Result<(Vec<f64>, Mat<f64>, usize)> {
+        let n = self.n();
+        let k = self.params.k;
+        let op = ShiftInvert {
+            factor: &self.factor,
+            sqrt_m: &self.sqrt_m,
+        };
+        let mut kp = PartialEigenParams::default();
+        kp.max_restarts = self.params.max_restarts;
+        kp.min_dim = (k + k / 2).max(32);
+        kp.max_dim = (2 * kp.min_dim).max(64);
+        // The Krylov space must be smaller than n (faer panics otherwise).
+        if kp.max_dim >= n {
+            kp.max_dim = n - 1;
+            kp.min_dim = kp.min_dim.min(kp.max_dim - 1);
+        }
+        let req = partial_self_adjoint_eigen_scratch::<f64>(&op, k, Par::Seq, kp);
+        let mut mem = MemBuffer::try_new(req).map_err(|_| Error::Numerical("out of memory".into()))?;
+        let mut y = Mat::<f64>::zeros(n, k);
+        let mut thetas = vec![0.0; k];
+        // Absolute tolerance on the residual of theta: theta_max <= 1/|sigma|.
+        let tol = self.params.tol / self.sigma.abs();
+        let info = partial_self_adjoint_eigen(
+            y.as_mut(),
+            &mut thetas,
+            &op,
+            v0,
+            tol,
+            Par::Seq,
+            MemStack::new(&mut mem),
+            kp,
+        );
+        if info.n_converged_eigen < k {
+            return Err(Error::Numerical(format!(
+                "Krylov-Schur found {} of {k} eigenpairs in {} restarts",
+                info.n_converged_eigen, self.params.max_restarts
+            )));
+        }
+        Ok((thetas, y, 0))
+    }
+
+    /// Sort, fix signs, measure residuals.
+    fn finish(&self, values: Vec<f64>, vectors: Mat<f64>, iterations: usize, warm: bool, ok: bool) -> Spectrum {
+        let (n, k) = (vectors.nrows(), vectors.ncols());
+        let mut order: Vec<usize> = (0..k).collect();
+        order.sort_by(|&a, &b| values[a].total_cmp(&values[b]));
+        let values: Vec<f64> = order.iter().map(|&i| values[i]).collect();
+        let mut vectors = Mat::from_fn(n, k, |i, j| vectors[(i, order[j])]);
+        for j in 0..k {
+            let mut best = 0usize;
+            let mut best_abs = -1.0;
+            for i in 0..n {
+                let a = vectors[(i, j)].abs();
+                if a > best_abs {
+                    best_abs = a;
+                    best = i;
+                }
+            }
+            if vectors[(best, j)] < 0.0 {
+                for i in 0..n {
+                    vectors[(i, j)] = -vectors[(i, j)];
+                }
+            }
+        }
+        let max_residual = self
+            .residuals(&values, vectors.as_ref())
+            .into_iter()
+            .fold(0.0, f64::max);
+        let converged = ok && max_residual <= residual_bound(self.params.tol);
+        Spectrum {
+            values,
+            vectors,
+            info: EigenInfo {
+                converged,
+                iterations,
+                max_residual,
+                warm,
+                shift: self.sigma,
+            },
+        }
+    }
+
+    /// $\lVert H\phi_i - \lambda_i M\phi_i \rVert_{M^{-1}} / (|\lambda_i| + |\sigma|)$.
+    pub(crate) fn residuals(&self, values: &[f64], vectors: MatRef<'_, f64>) -> Vec<f64> {
+        let (n, k) = (vectors.nrows(), vectors.ncols());
+        let mut r = Mat::<f64>::zeros(n, k);
+        self.factor.w_mul(r.as_mut(), vectors);
+        (0..k)
+            .map(|j| {
+                let mut s = 0.0;
+                for i in 0..n {
+                    let m = self.mass[i];
+                    let ri = r[(i, j)] + m * (self.potential[i] - values[j]) * vectors[(i, j)];
+                    s += ri * ri / m;
+                }
+                s.sqrt() / (values[j].abs() + self.sigma.abs())
+            })
+            .collect()
+    }
+}
+
+/// The residual reported as converged for a tolerance `tol` (the solvers control the
+/// residual of the transformed problem; the pencil residual may be a little larger).
+pub(crate) fn residual_bound(tol: f64) -> f64 {
+    (tol * 1e4).max(tol.sqrt() * 1e-3)
+}
+
+/// Deterministic pseudo-random number in `[-1, 1)` (SplitMix64 of `(i, stream)`).
+pub(crate) fn start_value(i: u64, stream: u64) -> f64 {
+    let mut z = i
+        .wrapping_add(stream.wrapping_mul(0xD1B5_4A32_D192_ED03))
+        .wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^= z >> 31;
+    (z >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+}
+
+/// $S = D K^{-1} D$ as a faer linear operator.
+#[derive(Debug)]
+struct ShiftInvert<'a> {
+    factor: &'a ShiftedFactor,
+    sqrt_m: &'a [f64],
+}
+
+impl LinOp<f64> for ShiftInvert<'_> {
+    fn apply_scratch(&self, rhs_ncols: usize, _par: Par) -> StackReq {
+        self.factor.solve_scratch(rhs_ncols)
+    }
+    fn nrows(&self) -> usize {
+        self.factor.n()
+    }
+    fn ncols(&self) -> usize {
+        self.factor.n()
+    }
+    fn apply(&self, mut out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, _par: Par, stack: &mut MemStack) {
+        let n = self.factor.n();
+        for c in 0..rhs.ncols() {
+            for i in 0..n {
+                out[(i, c)] = rhs[(i, c)] * self.sqrt_m[i];
+            }
+        }
+        self.factor.solve_in_place(out.rb_mut(), stack);
+        for c in 0..rhs.ncols() {
+            for i in 0..n {
+                out[(i, c)] *= self.sqrt_m[i];
+            }
+        }
+    }
+    fn conj_apply(&self, out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, par: Par, stack: &mut MemStack) {
+        self.apply(out, rhs, par, stack)
+    }
+}
