@@ -15,7 +15,9 @@ if grep -q "DUALSPECTRA_BUILD_MESHLAB" CMakeLists.txt 2>/dev/null; then
 else
   echo "meshlab: top-level CMakeLists.txt has no DUALSPECTRA_BUILD_MESHLAB hook; building meshlab_filter/ on its own"
   build=target/meshlab-build-standalone
+  # link the library just built (not a possibly stale target/release one)
   cmake -S meshlab_filter -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMESHLAB_SCALAR=float \
+        -DDUALSPECTRA_FFI_LIBRARY="$PWD/target/debug/libdualspectra_ffi.a" \
         >"$build.configure.log" 2>&1 || { cat "$build.configure.log"; exit 1; }
 fi
 cmake --build "$build" --target filter_dualspectra meshlab_layer_arrays_test -j2
