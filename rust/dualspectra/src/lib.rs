@@ -17,7 +17,12 @@ pub mod mesh;
 pub mod geometry;
 pub mod operators;
 pub mod spectra;
+pub mod shape;
+pub mod alignment;
+pub mod region;
 pub mod localize;
+pub mod evaluation;
+mod pipeline;
 
 pub use error::{Error, MeshError, Result};
 pub use mesh::TriMesh;

@@ -40,8 +40,10 @@ impl std::fmt::Display for Mode {
     }
 }
 
-/// Parameters of [`localize`]. `Options::default()` gives the paper's settings.
+/// Parameters of [`localize`]. `Options::default()` gives the paper's settings
+/// (construct with `Options { k: 10, ..Options::default() }`: fields may be added).
 #[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(default)]
 pub struct Options {
     pub mode: Mode,
     /// Eigenvalues per spectrum (`dual` uses k + k, `lbo`/`si` use 2k).
@@ -50,11 +52,29 @@ pub struct Options {
     pub alpha: f64,
     /// Seed for every random choice (results are deterministic for a given seed).
     pub seed: u64,
+    /// Vertices of the decimated full shape the potential is optimised on
+    /// (0: no decimation). The paper decimates to 50%.
+    pub resolution: usize,
+    /// Farthest-point centres for the Gaussian starts (each gives 4 starts).
+    pub centers: usize,
+    /// Trust-region iterations per start.
+    pub max_iterations: usize,
+    /// Worker threads (0: all cores).
+    pub threads: usize,
 }
 
 impl Default for Options {
     fn default() -> Self {
-        Options { mode: Mode::Dual, k: 20, alpha: crate::geometry::metric::DEFAULT_ALPHA, seed: 0 }
+        Options {
+            mode: Mode::Dual,
+            k: 20,
+            alpha: crate::geometry::metric::DEFAULT_ALPHA,
+            seed: 0,
+            resolution: 2500,
+            centers: 10,
+            max_iterations: 100,
+            threads: 0,
+        }
     }
 }
 
@@ -91,10 +111,67 @@ pub struct Localization {
     pub selected_start: usize,
     pub n_starts: usize,
     pub timings: Timings,
+    /// Notes on repairs made to the input (e.g. a disconnected partial reduced to its largest component).
+    pub warnings: Vec<String>,
+}
+
+/// What one start produced.
+#[derive(Debug, Clone)]
+pub(crate) struct StartOutcome {
+    pub label: String,
+    pub w: Vec<f64>,
+    pub cost: f64,
+    pub iterations: usize,
+    pub evaluations: usize,
+    /// Eigenvalues per term at the optimum, and the eigenvector energy per vertex of the optimisation mesh.
+    pub eigenvalues: Vec<Vec<f64>>,
+    pub energy: Vec<f64>,
+}
+
+/// Check the options; each problem is a clear `InvalidArgument`.
+pub(crate) fn check_options(o: &Options) -> Result<()> {
+    if o.k == 0 || o.k > 500 {
+        return Err(Error::InvalidArgument(format!("k = {} must be in 1..=500", o.k)));
+    }
+    if !(o.alpha.is_finite() && (0.0..=2.0).contains(&o.alpha)) {
+        return Err(Error::InvalidArgument(format!("alpha = {} must be in [0, 2]", o.alpha)));
+    }
+    if o.max_iterations == 0 {
+        return Err(Error::InvalidArgument("max_iterations must be at least 1".into()));
+    }
+    Ok(())
+}
+
+/// Keep the largest connected component (by area) of a mesh; returns it and whether anything was dropped.
+pub(crate) fn largest_component(mesh: &TriMesh) -> Result<(TriMesh, bool)> {
+    let (comp, count) = crate::mesh::topology::connected_components(mesh);
+    if count <= 1 {
+        return Ok((mesh.clone(), false));
+    }
+    let mut area = vec![0.0; count];
+    let v = mesh.vertices();
+    for f in mesh.faces() {
+        area[comp[f[0] as usize] as usize] += crate::mesh::triangle_area(v[f[0] as usize], v[f[1] as usize], v[f[2] as usize]);
+    }
+    let best = (0..count).max_by(|&a, &b| area[a].total_cmp(&area[b]).then(b.cmp(&a))).unwrap_or(0) as u32;
+    let faces: Vec<[u32; 3]> = mesh.faces().iter().filter(|f| comp[f[0] as usize] == best).copied().collect();
+    let (m, _) = TriMesh::new_dropping_isolated(mesh.vertices().to_vec(), faces)?;
+    Ok((m, true))
 }
 
 /// Find the region of `full` that `partial` corresponds to (ALGORITHM.md, whole pipeline).
+///
+/// Both meshes are first scaled by the same factor so that `full` has unit area: the result
+/// does not depend on the units the shapes are given in.
+///
+/// Documented behaviours on unusual input: a partial without boundary is rejected (a closed
+/// surface has no Dirichlet spectrum to match: compare whole shapes with the similarity
+/// tools instead); a partial larger than 1.1x the full shape's area is rejected; a
+/// disconnected partial is reduced to its largest connected component (a warning says so).
 pub fn localize(full: &TriMesh, partial: &TriMesh, options: &Options, progress: &Progress) -> Result<Localization> {
-    let _ = (full, partial, options, progress);
-    Err(Error::Numerical("localize: work in progress".into()))
+    crate::pipeline::run(full, partial, options, progress)
+}
+
+pub(crate) mod internal {
+    pub(crate) use super::{check_options, largest_component};
 }

@@ -1,0 +1,87 @@
+//! Initial relaxed potentials $w_0$ (ALGORITHM.md "Optimisation"):
+//! Gaussians at farthest-point samples of the full shape, both signs and two widths, and
+//! the descriptor baseline $w_0 = 2 - 4 R_0$.
+//!
+//! With $g(x) = 1 - \exp(-|x - c|^2 / (2\sigma^2))$: $w_0 = g - 1/2$ opens a well (low
+//! potential, the candidate region) around $c$; $w_0 = 1/2 - g$ opens everything but $c$.
+
+/// A starting point of the optimisation.
+#[derive(Debug, Clone)]
+pub struct Start {
+    pub w0: Vec<f64>,
+    pub label: String,
+}
+
+/// SplitMix64: a tiny deterministic generator for seeded choices (no global RNG).
+pub fn splitmix64(state: &mut u64) -> u64 {
+    *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    let mut z = *state;
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+fn dist2(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)
+}
+
+/// `count` farthest-point samples (Euclidean), the first chosen by `seed`. Deterministic.
+pub fn farthest_point_samples(points: &[[f64; 3]], count: usize, seed: u64) -> Vec<usize> {
+    let n = points.len();
+    if n == 0 || count == 0 {
+        return Vec::new();
+    }
+    let mut state = seed;
+    let first = (splitmix64(&mut state) % n as u64) as usize;
+    let mut chosen = vec![first];
+    let mut d: Vec<f64> = points.iter().map(|&p| dist2(p, points[first])).collect();
+    while chosen.len() < count.min(n) {
+        let (next, _) = d.iter().enumerate().fold((0, -1.0), |acc, (i, &v)| if v > acc.1 { (i, v) } else { acc });
+        chosen.push(next);
+        for (di, &p) in d.iter_mut().zip(points) {
+            *di = di.min(dist2(p, points[next]));
+        }
+    }
+    chosen
+}
+
+/// Gaussian starts: for each centre and width, `w0 = g - 1/2` ("well") and `w0 = 1/2 - g` ("bump").
+pub fn gaussian_starts(points: &[[f64; 3]], centres: &[usize], sigmas: &[f64]) -> Vec<Start> {
+    let mut out = Vec::with_capacity(centres.len() * sigmas.len() * 2);
+    for &c in centres {
+        for (si, &sigma) in sigmas.iter().enumerate() {
+            let g: Vec<f64> =
+                points.iter().map(|&p| 1.0 - (-dist2(p, points[c]) / (2.0 * sigma * sigma)).exp()).collect();
+            out.push(Start { w0: g.iter().map(|x| x - 0.5).collect(), label: format!("well@{c}/sigma{si}") });
+            out.push(Start { w0: g.iter().map(|x| 0.5 - x).collect(), label: format!("bump@{c}/sigma{si}") });
+        }
+    }
+    out
+}
+
+/// The descriptor baseline start: $w_0 = 2 - 4 R_0$ (low potential on the mask).
+pub fn mask_start(mask: &[bool], label: &str) -> Start {
+    Start { w0: mask.iter().map(|&m| if m { -2.0 } else { 2.0 }).collect(), label: label.to_string() }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    #[test]
+    fn fps_is_deterministic_spread_and_distinct() {
+        let m = crate::mesh::generate::icosphere(3);
+        let a = farthest_point_samples(m.vertices(), 10, 7);
+        let b = farthest_point_samples(m.vertices(), 10, 7);
+        assert_eq!(a, b);
+        let mut s = a.clone();
+        s.sort();
+        s.dedup();
+        assert_eq!(s.len(), 10);
+        // On the unit sphere, 10 spread points are pairwise farther than 0.5.
+        for i in 0..10 {
+            for j in 0..i {
+                assert!(dist2(m.vertices()[a[i]], m.vertices()[a[j]]).sqrt() > 0.5);
+            }
+        }
+    }
+}

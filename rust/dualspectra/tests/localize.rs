@@ -1,0 +1,136 @@
+//! End-to-end laws of the localizer on small generated shapes (seconds, not minutes).
+
+use dualspectra::mesh::generate::icosphere;
+use dualspectra::{localize, Error, Mode, Options, Progress, TriMesh};
+
+/// An asymmetric closed shape: a unit icosphere with three bumps of different sizes.
+fn bumpy_sphere(level: u32) -> TriMesh {
+    let bumps = [([0.0, 0.0, 1.0], 0.6, 0.08), ([1.0, 0.0, 0.0], 0.35, 0.05), ([0.0, -1.0, 0.2], 0.5, 0.12)];
+    icosphere(level)
+        .map_positions(|p| {
+            let r: f64 = 1.0
+                + bumps
+                    .iter()
+                    .map(|(c, h, s)| {
+                        let d2: f64 = (0..3).map(|i| (p[i] - c[i]).powi(2)).sum();
+                        h * (-d2 / (2.0 * s)).exp()
+                    })
+                    .sum::<f64>();
+            p.map(|x| x * r)
+        })
+        .unwrap()
+}
+
+/// The faces whose three vertices satisfy `keep`, as a new mesh, and the full-mesh mask of its vertices.
+fn cut(mesh: &TriMesh, keep: impl Fn([f64; 3]) -> bool) -> (TriMesh, Vec<bool>) {
+    let v = mesh.vertices();
+    let faces: Vec<[u32; 3]> =
+        mesh.faces().iter().filter(|f| f.iter().all(|&i| keep(v[i as usize]))).copied().collect();
+    let mut mask = vec![false; v.len()];
+    faces.iter().flatten().for_each(|&i| mask[i as usize] = true);
+    let (part, _) = TriMesh::new_dropping_isolated(v.to_vec(), faces).unwrap();
+    (part, mask)
+}
+
+fn iou(a: &[bool], b: &[bool]) -> f64 {
+    let i = a.iter().zip(b).filter(|(x, y)| **x && **y).count() as f64;
+    let u = a.iter().zip(b).filter(|(x, y)| **x || **y).count() as f64;
+    i / u
+}
+
+fn quick() -> Options {
+    Options { k: 10, centers: 4, max_iterations: 40, resolution: 0, ..Options::default() }
+}
+
+#[test]
+fn finds_an_undeformed_cut() {
+    let full = bumpy_sphere(3);
+    let (part, truth) = cut(&full, |p| p[2] > 0.1);
+    let res = localize(&full, &part, &quick(), &Progress::none()).unwrap();
+    let score = iou(&res.region, &truth);
+    assert!(score > 0.9, "IoU {score}, cost {}", res.cost);
+    assert_eq!(res.region.len(), full.n_vertices());
+    assert_eq!(res.eigenvalues_regular.len(), 10);
+    assert_eq!(res.eigenvalues_si.len(), 10);
+    assert!(res.score.iter().all(|s| (0.0..=1.0).contains(s)));
+}
+
+#[test]
+fn result_does_not_depend_on_units() {
+    let full = bumpy_sphere(2);
+    let (part, _) = cut(&full, |p| p[0] > 0.0);
+    let o = Options { mode: Mode::Lbo, ..quick() };
+    let a = localize(&full, &part, &o, &Progress::none()).unwrap();
+    let s = 1000.0;
+    let b = localize(
+        &full.map_positions(|p| p.map(|x| x * s)).unwrap(),
+        &part.map_positions(|p| p.map(|x| x * s)).unwrap(),
+        &o,
+        &Progress::none(),
+    )
+    .unwrap();
+    assert_eq!(a.region, b.region);
+    assert!((a.cost - b.cost).abs() <= 1e-6 * a.cost.max(1e-12), "{} vs {}", a.cost, b.cost);
+}
+
+#[test]
+fn deterministic_for_a_seed() {
+    let full = bumpy_sphere(2);
+    let (part, _) = cut(&full, |p| p[1] < 0.2);
+    let o = Options { seed: 3, ..quick() };
+    let a = localize(&full, &part, &o, &Progress::none()).unwrap();
+    let b = localize(&full, &part, &o, &Progress::none()).unwrap();
+    assert_eq!(a.region, b.region);
+    assert_eq!(a.cost.to_bits(), b.cost.to_bits());
+}
+
+#[test]
+fn bad_inputs_give_clear_errors() {
+    let full = bumpy_sphere(2);
+    // Closed partial (no boundary).
+    let e = localize(&full, &full, &quick(), &Progress::none()).unwrap_err();
+    assert!(e.to_string().contains("no boundary"), "{e}");
+    // Partial larger than the full shape.
+    let (part, _) = cut(&full, |p| p[2] > 0.0);
+    let big = part.map_positions(|p| p.map(|x| x * 3.0)).unwrap();
+    let e = localize(&full, &big, &quick(), &Progress::none()).unwrap_err();
+    assert!(e.to_string().contains("area"), "{e}");
+    // Bad options.
+    let e = localize(&full, &part, &Options { k: 0, ..quick() }, &Progress::none()).unwrap_err();
+    assert!(matches!(e, Error::InvalidArgument(_)), "{e}");
+    // Too many eigenvalues for a tiny partial.
+    let (tiny, _) = cut(&full, |p| p[2] > 0.93);
+    let e = localize(&full, &tiny, &Options { k: 200, ..quick() }, &Progress::none()).unwrap_err();
+    assert!(matches!(e, Error::InvalidArgument(_)), "{e}");
+}
+
+#[test]
+fn disconnected_partial_keeps_largest_component_with_a_warning() {
+    let full = bumpy_sphere(3);
+    let (part, truth) = cut(&full, |p| p[2] > 0.1 || p[2] < -0.95);
+    let res = localize(&full, &part, &quick(), &Progress::none()).unwrap();
+    assert!(res.warnings.iter().any(|w| w.contains("disconnected")), "{:?}", res.warnings);
+    let (_, main) = cut(&full, |p| p[2] > 0.1);
+    let _ = truth;
+    assert!(iou(&res.region, &main) > 0.85);
+}
+
+#[test]
+fn progress_is_reported_and_cancel_stops() {
+    let full = bumpy_sphere(2);
+    let (part, _) = cut(&full, |p| p[0] > 0.0);
+    let seen = std::sync::Arc::new(std::sync::Mutex::new(Vec::<f64>::new()));
+    let s2 = seen.clone();
+    let p = Progress::new(move |f, _| {
+        s2.lock().unwrap().push(f);
+        true
+    });
+    localize(&full, &part, &quick(), &p).unwrap();
+    let v = seen.lock().unwrap().clone();
+    assert!(v.windows(2).all(|w| w[1] >= w[0] - 1e-12), "progress not monotone");
+    assert_eq!(v.last().copied(), Some(1.0));
+
+    let p = Progress::new(|f, _| f < 0.1);
+    let e = localize(&full, &part, &quick(), &p).unwrap_err();
+    assert!(matches!(e, Error::Cancelled));
+}
