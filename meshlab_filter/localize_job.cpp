@@ -131,7 +131,8 @@ LocalizeOutcome run_localize(const PackedLayer& full, const PackedLayer& partial
         shared.done_cv.wait_for(lock, std::chrono::milliseconds(100));
         if (shared.done || cb == nullptr) continue;
         const int percent = static_cast<int>(100.0 * std::min(1.0, std::max(0.0, shared.fraction)));
-        const std::string stage = "Localize partial shape: " + shared.stage;
+        // meshlabserver prints only the text, so the text carries the percentage too
+        const std::string stage = "Localize partial shape: " + shared.stage + " (" + std::to_string(percent) + "%)";
         if (percent == last_percent && stage == last_stage) continue;
         last_percent = percent;
         last_stage = stage;

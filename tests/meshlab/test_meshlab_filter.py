@@ -85,7 +85,8 @@ def run_server(server, work, name, meshes, script_text, save_mask=None, timeout=
     with open(script, "w") as f:
         f.write(script_text)
     log_path = os.path.join(work, name + ".log")
-    cmd = ["xvfb-run", "-a", server]
+    # unbuffered stdout: meshlabserver prints the progress text without newlines
+    cmd = ["xvfb-run", "-a"] + (["stdbuf", "-o0"] if shutil.which("stdbuf") else []) + [server]
     for m in meshes:
         cmd += ["-i", m]
     cmd += ["-s", script, "-l", log_path]
@@ -103,6 +104,7 @@ def run_server(server, work, name, meshes, script_text, save_mask=None, timeout=
         stdout, _ = proc.communicate()
         stdout += b"\nTIMEOUT: meshlabserver killed after %d s\n" % timeout
     text = stdout.decode("utf-8", errors="replace").replace("\r", "\n")
+    text = text.replace("Localize partial shape: ", "\nLocalize partial shape: ")
     if os.path.exists(log_path):
         with open(log_path, encoding="utf-8", errors="replace") as f:
             text += "\n" + f.read()
@@ -230,8 +232,11 @@ def main():
                                            timeout=args.timeout)
             no_crash(checks, "region", status, text)
             ok = status == 0 and out is not None and os.path.exists(out)
-            checks.check("region", ok, "filter applied and mesh saved (exit %d)%s"
-                         % (status, "" if ok else "; log: " + log_excerpt(text, "Localize partial shape")))
+            checks.check("region", ok, "filter applied and mesh saved (exit %d)" % status)
+            if not ok:
+                print("  last lines of meshlabserver's output:")
+                for line in [l for l in text.splitlines() if l.strip()][-6:]:
+                    print("    " + line.strip())
             if ok:
                 checks.check("region", "Localized " in text, log_excerpt(text, "Localized "))
                 n, selected = read_selected(out)
