@@ -1,0 +1,459 @@
+//! Benchmark datasets on disk. Currently the SHREC'16 Partial Matching of Deformable
+//! Shapes layout (Cosmo, Rodolà et al. 2016), CUTS or HOLES:
+//!
+//! ```text
+//! <root>/null/<class>.off                 full shapes (canonical pose)
+//! <root>/cuts/cuts_<class>_shape_<i>.off  partial shapes (deformed, cut, own triangulation)
+//! <root>/cuts/<name>.baryc_gt             one row per partial vertex:
+//!                                         <triangle of null/<class>.off, 1-based> w1 w2 w3
+//! <root>/cuts/<name>.baryc_gt_sym         the same for the left-right mirrored match
+//! ```
+//!
+//! The ground-truth region on the full shape marks the three vertices of the triangle of
+//! every row (marking only the largest-weight vertex leaves holes where the partial is
+//! coarser than the full shape). The dataset root is an argument; [`data_root_from_env`]
+//! reads `$DUALSPECTRA_DATA` (which holds `shrec16/`).
+
+use crate::error::{Error, Result};
+use crate::mesh::io::{read_mesh, read_mesh_with_report, ReadOptions};
+use crate::mesh::TriMesh;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// Environment variable naming the folder that holds the datasets (`shrec16/`, ...).
+pub const DATA_ENV: &str = "DUALSPECTRA_DATA";
+
+/// `$DUALSPECTRA_DATA` if set and non-empty.
+pub fn data_root_from_env() -> Option<PathBuf> {
+    std::env::var_os(DATA_ENV)
+        .filter(|v| !v.is_empty())
+        .map(PathBuf::from)
+}
+
+/// One partial/full pair of a SHREC'16-layout dataset (paths only; see [`Pair::load`]).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Pair {
+    /// File stem of the partial shape, e.g. `cuts_cat_shape_1`.
+    pub name: String,
+    /// Class, e.g. `cat` (the full shape is `null/<class>.off`).
+    pub class: String,
+    /// Index `i` of `..._shape_<i>`.
+    pub index: u32,
+    pub full: PathBuf,
+    pub partial: PathBuf,
+    pub gt: PathBuf,
+    pub gt_sym: PathBuf,
+}
+
+/// A loaded pair: both meshes and the ground-truth masks over the full mesh's vertices.
+#[derive(Debug, Clone)]
+pub struct LoadedPair {
+    pub full: TriMesh,
+    pub partial: TriMesh,
+    /// `true` on the full mesh's vertices covered by the partial shape.
+    pub gt: Vec<bool>,
+    /// The same for the left-right mirrored correspondence (`None` if the file is absent).
+    pub gt_sym: Option<Vec<bool>>,
+}
+
+/// Split `<prefix>_<class>_shape_<i>` into `(class, i)`. The prefix is the part before the
+/// first `_` (`cuts`, `holes`); classes may themselves contain `_`.
+pub fn parse_pair_name(name: &str) -> Option<(String, u32)> {
+    let (_, rest) = name.split_once('_')?;
+    let (class, index) = rest.rsplit_once("_shape_")?;
+    if class.is_empty() {
+        return None;
+    }
+    Some((class.to_string(), index.parse().ok()?))
+}
+
+/// A dataset folder in the SHREC'16 layout (holding `null/` and one partial folder).
+#[derive(Debug, Clone)]
+pub struct Shrec16 {
+    root: PathBuf,
+    partial_dir: PathBuf,
+}
+
+fn io_err(path: &Path, source: std::io::Error) -> Error {
+    Error::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+fn parse_err(path: &Path, message: impl Into<String>) -> Error {
+    Error::Parse {
+        path: path.to_path_buf(),
+        message: message.into(),
+    }
+}
+
+impl Shrec16 {
+    /// Open `root`, which must contain `null/` and `cuts/` (or `holes/`).
+    pub fn open(root: impl AsRef<Path>) -> Result<Self> {
+        let root = root.as_ref().to_path_buf();
+        if !root.is_dir() {
+            return Err(parse_err(
+                &root,
+                "dataset folder not found (expected a folder with null/ and cuts/)",
+            ));
+        }
+        if !root.join("null").is_dir() {
+            return Err(parse_err(
+                &root,
+                "not a SHREC'16 dataset folder: no null/ subfolder",
+            ));
+        }
+        let partial_dir = ["cuts", "holes"]
+            .iter()
+            .map(|d| root.join(d))
+            .find(|p| p.is_dir())
+            .ok_or_else(|| {
+                parse_err(
+                    &root,
+                    "not a SHREC'16 dataset folder: no cuts/ (or holes/) subfolder",
+                )
+            })?;
+        Ok(Shrec16 { root, partial_dir })
+    }
+
+    /// `$DUALSPECTRA_DATA/shrec16`, if the variable is set (the folder may still be invalid).
+    pub fn from_env() -> Option<Result<Self>> {
+        data_root_from_env().map(|r| Self::open(r.join("shrec16")))
+    }
+
+    pub fn root(&self) -> &Path {
+        &self.root
+    }
+
+    /// Every pair with a partial `.off` whose name parses (see [`parse_pair_name`]),
+    /// sorted by class then index. Missing full shapes or ground-truth files are reported
+    /// when the pair is loaded, not here, so a listing never fails on one bad pair.
+    pub fn pairs(&self) -> Result<Vec<Pair>> {
+        let entries =
+            std::fs::read_dir(&self.partial_dir).map_err(|e| io_err(&self.partial_dir, e))?;
+        let mut pairs = Vec::new();
+        for entry in entries {
+            let path = entry.map_err(|e| io_err(&self.partial_dir, e))?.path();
+            if path
+                .extension()
+                .and_then(|e| e.to_str())
+                .map(|e| e.eq_ignore_ascii_case("off"))
+                != Some(true)
+            {
+                continue;
+            }
+            let Some(name) = path
+                .file_stem()
+                .and_then(|s| s.to_str())
+                .map(str::to_string)
+            else {
+                continue;
+            };
+            let Some((class, index)) = parse_pair_name(&name) else {
+                continue;
+            };
+            pairs.push(Pair {
+                full: self.root.join("null").join(format!("{class}.off")),
+                gt: self.partial_dir.join(format!("{name}.baryc_gt")),
+                gt_sym: self.partial_dir.join(format!("{name}.baryc_gt_sym")),
+                partial: path,
+                name,
+                class,
+                index,
+            });
+        }
+        pairs.sort_by(|a, b| (&a.class, a.index, &a.name).cmp(&(&b.class, b.index, &b.name)));
+        Ok(pairs)
+    }
+}
+
+/// One row of a `.baryc_gt` file: a triangle of the full shape (0-based here) and the
+/// barycentric weights of the partial vertex in it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BarycentricRow {
+    pub triangle: u32,
+    pub weights: [f64; 3],
+}
+
+/// Parse a `.baryc_gt` / `.baryc_gt_sym` file (whitespace-separated rows
+/// `<1-based triangle> w1 w2 w3`; blank lines ignored). The triangle index is written as a
+/// float in the original files (`1.4700000e+02`) and must be a positive integer.
+pub fn read_barycentric_gt(path: &Path) -> Result<Vec<BarycentricRow>> {
+    let text = std::fs::read_to_string(path).map_err(|e| io_err(path, e))?;
+    parse_barycentric_gt(&text, path)
+}
+
+/// [`read_barycentric_gt`] on text in memory (`path` only names the source in errors).
+pub fn parse_barycentric_gt(text: &str, path: &Path) -> Result<Vec<BarycentricRow>> {
+    let mut rows = Vec::new();
+    for (lineno, line) in text.lines().enumerate() {
+        let fields: Vec<&str> = line.split_whitespace().collect();
+        if fields.is_empty() {
+            continue;
+        }
+        let at = |msg: String| parse_err(path, format!("line {}: {msg}", lineno + 1));
+        if fields.len() != 4 {
+            return Err(at(format!(
+                "expected 4 numbers (triangle w1 w2 w3), found {}",
+                fields.len()
+            )));
+        }
+        let mut v = [0.0; 4];
+        for (k, f) in fields.iter().enumerate() {
+            v[k] = f
+                .parse::<f64>()
+                .map_err(|_| at(format!("'{f}' is not a number")))?;
+            if !v[k].is_finite() {
+                return Err(at(format!("'{f}' is not finite")));
+            }
+        }
+        let t = v[0];
+        if t < 1.0 || t.fract() != 0.0 || t > u32::MAX as f64 {
+            return Err(at(format!(
+                "triangle index {} is not a positive integer (indices are 1-based)",
+                fields[0]
+            )));
+        }
+        rows.push(BarycentricRow {
+            triangle: t as u32 - 1,
+            weights: [v[1], v[2], v[3]],
+        });
+    }
+    if rows.is_empty() {
+        return Err(parse_err(path, "no ground-truth rows"));
+    }
+    Ok(rows)
+}
+
+/// Ground-truth mask over `full`'s vertices: the three vertices of every row's triangle.
+/// `face_groups[r]` lists the mesh triangles of file face record `r` (the identity for a
+/// pure triangle file; a polygon record maps to its fan triangles). Errors name the row
+/// whose triangle is out of range.
+pub fn ground_truth_mask(
+    full: &TriMesh,
+    rows: &[BarycentricRow],
+    face_groups: Option<&[Vec<u32>]>,
+    path: &Path,
+) -> Result<Vec<bool>> {
+    let n_records = face_groups.map_or(full.n_faces(), |g| g.len());
+    let mut mask = vec![false; full.n_vertices()];
+    for (r, row) in rows.iter().enumerate() {
+        let t = row.triangle as usize;
+        if t >= n_records {
+            return Err(parse_err(
+                path,
+                format!("row {}: triangle {} is out of range (the full shape has {n_records} faces; indices are 1-based)", r + 1, t + 1),
+            ));
+        }
+        let mut mark = |tri: usize| {
+            full.faces()[tri]
+                .iter()
+                .for_each(|&v| mask[v as usize] = true)
+        };
+        match face_groups {
+            Some(groups) => groups[t].iter().for_each(|&tri| mark(tri as usize)),
+            None => mark(t),
+        }
+    }
+    Ok(mask)
+}
+
+/// Read a full shape together with the grouping of its triangles by file face record.
+pub fn read_full_shape(path: &Path) -> Result<(TriMesh, Vec<Vec<u32>>)> {
+    let (mesh, report) = read_mesh_with_report(path, &ReadOptions::default())?;
+    let mut groups = vec![Vec::new(); report.file_faces];
+    for (t, &r) in report.face_origin.iter().enumerate() {
+        if let Some(g) = groups.get_mut(r as usize) {
+            g.push(t as u32);
+        }
+    }
+    Ok((mesh, groups))
+}
+
+impl Pair {
+    /// Load both meshes and the ground truth. Errors name the missing or bad file; a
+    /// `.baryc_gt` must have one row per vertex of the partial shape.
+    pub fn load(&self) -> Result<LoadedPair> {
+        for p in [&self.full, &self.partial, &self.gt] {
+            if !p.is_file() {
+                return Err(Error::Io {
+                    path: p.clone(),
+                    source: std::io::Error::new(
+                        std::io::ErrorKind::NotFound,
+                        format!("file of pair {} not found", self.name),
+                    ),
+                });
+            }
+        }
+        let (full, groups) = read_full_shape(&self.full)?;
+        let partial = read_mesh(&self.partial)?;
+        let load_gt = |path: &Path| -> Result<Vec<bool>> {
+            let rows = read_barycentric_gt(path)?;
+            if rows.len() != partial.n_vertices() {
+                return Err(parse_err(
+                    path,
+                    format!("{} rows, but the partial shape has {} vertices (one row per vertex expected)", rows.len(), partial.n_vertices()),
+                ));
+            }
+            ground_truth_mask(&full, &rows, Some(&groups), path)
+        };
+        let gt = load_gt(&self.gt)?;
+        let gt_sym = if self.gt_sym.is_file() {
+            Some(load_gt(&self.gt_sym)?)
+        } else {
+            None
+        };
+        Ok(LoadedPair {
+            full,
+            partial,
+            gt,
+            gt_sym,
+        })
+    }
+}
+
+/// Write a SHREC'16-layout dataset with one pair (used to build small test datasets):
+/// `root/null/<class>.off`, `root/cuts/cuts_<class>_shape_<index>.off` and its `.baryc_gt`
+/// (and `.baryc_gt_sym` if given), each row a triangle of `full` (0-based here, written
+/// 1-based) and barycentric weights.
+pub fn write_shrec16_pair(
+    root: &Path,
+    class: &str,
+    index: u32,
+    full: &TriMesh,
+    partial: &TriMesh,
+    gt: &[BarycentricRow],
+    gt_sym: Option<&[BarycentricRow]>,
+) -> Result<Pair> {
+    use std::fmt::Write as _;
+    if gt.len() != partial.n_vertices() {
+        return Err(Error::InvalidArgument(format!(
+            "{} ground-truth rows for a partial shape with {} vertices",
+            gt.len(),
+            partial.n_vertices()
+        )));
+    }
+    let (null, cuts) = (root.join("null"), root.join("cuts"));
+    for d in [&null, &cuts] {
+        std::fs::create_dir_all(d).map_err(|e| io_err(d, e))?;
+    }
+    let name = format!("cuts_{class}_shape_{index}");
+    let full_path = null.join(format!("{class}.off"));
+    let partial_path = cuts.join(format!("{name}.off"));
+    crate::mesh::io::write_off(&full_path, full)?;
+    crate::mesh::io::write_off(&partial_path, partial)?;
+    let write_rows = |path: &Path, rows: &[BarycentricRow]| -> Result<()> {
+        let mut s = String::new();
+        for r in rows {
+            let _ = writeln!(
+                s,
+                "{} {:e} {:e} {:e}",
+                r.triangle + 1,
+                r.weights[0],
+                r.weights[1],
+                r.weights[2]
+            );
+        }
+        std::fs::write(path, s).map_err(|e| io_err(path, e))
+    };
+    let gt_path = cuts.join(format!("{name}.baryc_gt"));
+    let sym_path = cuts.join(format!("{name}.baryc_gt_sym"));
+    write_rows(&gt_path, gt)?;
+    if let Some(s) = gt_sym {
+        write_rows(&sym_path, s)?;
+    }
+    Ok(Pair {
+        name,
+        class: class.into(),
+        index,
+        full: full_path,
+        partial: partial_path,
+        gt: gt_path,
+        gt_sym: sym_path,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pair_names() {
+        assert_eq!(parse_pair_name("cuts_cat_shape_1"), Some(("cat".into(), 1)));
+        assert_eq!(
+            parse_pair_name("holes_big_dog_shape_12"),
+            Some(("big_dog".into(), 12))
+        );
+        assert_eq!(parse_pair_name("cuts_cat"), None);
+        assert_eq!(parse_pair_name("cuts__shape_1"), None);
+        assert_eq!(parse_pair_name("cuts_cat_shape_x"), None);
+    }
+
+    #[test]
+    fn barycentric_rows_parse_and_reject_bad_lines() {
+        let p = Path::new("t.baryc_gt");
+        let rows = parse_barycentric_gt(
+            "   1.4700000e+02   1.6768015e-03   2.1508433e-03   9.9617236e-01\n\n2 0 1 0\n",
+            p,
+        )
+        .unwrap();
+        assert_eq!(rows.len(), 2);
+        assert_eq!(rows[0].triangle, 146);
+        assert_eq!(
+            rows[1],
+            BarycentricRow {
+                triangle: 1,
+                weights: [0.0, 1.0, 0.0]
+            }
+        );
+        for bad in [
+            "1 0 1\n",
+            "0 1 0 0\n",
+            "1.5 1 0 0\n",
+            "x 1 0 0\n",
+            "",
+            "1 nan 0 0\n",
+        ] {
+            let e = parse_barycentric_gt(bad, p).unwrap_err();
+            assert!(matches!(e, Error::Parse { .. }), "{bad:?}: {e}");
+        }
+        let e = parse_barycentric_gt("1 1 0 0\n3 1 0 0 5\n", p)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("line 2"), "{e}");
+    }
+
+    #[test]
+    fn mask_marks_the_three_vertices_and_checks_range() {
+        let m = crate::mesh::generate::grid(1.0, 1.0, 2, 2);
+        let rows = [BarycentricRow {
+            triangle: 0,
+            weights: [1.0, 0.0, 0.0],
+        }];
+        let mask = ground_truth_mask(&m, &rows, None, Path::new("x")).unwrap();
+        let f = m.faces()[0];
+        assert_eq!(mask.iter().filter(|&&b| b).count(), 3);
+        assert!(f.iter().all(|&v| mask[v as usize]));
+        let bad = [BarycentricRow {
+            triangle: 8,
+            weights: [1.0, 0.0, 0.0],
+        }];
+        assert!(ground_truth_mask(&m, &bad, None, Path::new("x"))
+            .unwrap_err()
+            .to_string()
+            .contains("out of range"));
+    }
+
+    #[test]
+    fn open_rejects_non_dataset_folders() {
+        let dir = std::env::temp_dir().join(format!("ds_eval_open_{}", std::process::id()));
+        let _ = std::fs::create_dir_all(&dir);
+        assert!(Shrec16::open(dir.join("missing")).is_err());
+        assert!(Shrec16::open(&dir)
+            .unwrap_err()
+            .to_string()
+            .contains("null/"));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
