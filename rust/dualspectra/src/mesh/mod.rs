@@ -2,6 +2,8 @@
 
 pub mod topology;
 pub mod generate;
+pub mod decimate;
+pub mod nearest;
 pub mod io;
 
 use crate::error::MeshError;

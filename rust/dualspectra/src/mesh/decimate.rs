@@ -1,0 +1,244 @@
+//! Quadric edge-collapse decimation of a [`TriMesh`] to a target fraction of its vertices.
+//!
+//! ALGORITHM.md, "Optimisation": the full shape is decimated (quadric edge collapse) to
+//! 50% of its vertices before the optimisation, and the result is carried back to the
+//! full mesh by nearest neighbours (`mesh::nearest`).
+//!
+//! The collapse is meshoptimizer's `meshopt_simplify` (Garland and Heckbert 1997,
+//! "Surface simplification using quadric error metrics", with meshoptimizer's
+//! topology rules), through the `meshopt` crate. It collapses edges onto one of their
+//! endpoints, so the decimated vertices are a *subset* of the original ones at their
+//! original (f64) positions: [`Decimated::original_vertex`] maps each kept vertex to its
+//! index in the input, and a value transferred back is exact at kept vertices.
+//!
+//! Boundary vertices are locked (`SimplifyOptions::LockBorder`): the boundary of the full
+//! shape is kept vertex for vertex. meshoptimizer works on `f32` positions; the input is
+//! centred on its bounding box first, so the result does not depend on a translation
+//! beyond `f32` rounding of the quadric errors.
+//!
+//! The output is checked by [`TriMesh::new`]: degenerate faces (at `f64`) and repeated
+//! faces are dropped, and a candidate with a non-manifold edge is rejected; the function
+//! tries a few target counts and returns the valid result nearest the target, or
+//! [`Error::Numerical`] if none is valid. Deterministic: same input, same output.
+
+use super::TriMesh;
+use crate::error::{Error, MeshError, Result};
+use meshopt::SimplifyOptions;
+use std::collections::HashSet;
+
+/// A decimated mesh and where its vertices came from.
+#[derive(Debug, Clone)]
+pub struct Decimated {
+    /// The decimated mesh (valid, edge-manifold, same boundary as the input).
+    pub mesh: TriMesh,
+    /// `original_vertex[i]` is the index in the input mesh of decimated vertex `i`
+    /// (increasing, since the kept vertices keep their input order).
+    pub original_vertex: Vec<u32>,
+}
+
+/// Decimate `mesh` to about `target_fraction * n_vertices` vertices (at least 4).
+///
+/// `target_fraction` must be in `(0, 1]`; `1` returns the input unchanged with the
+/// identity map. The count reached is within about 1% of the target unless the locked
+/// boundary or meshoptimizer's topology rules prevent it (then the nearest count reached).
+///
+/// Errors: [`Error::InvalidArgument`] for a bad fraction, [`Error::Numerical`] if every
+/// candidate result failed validation (the message names the reason).
+pub fn decimate(mesh: &TriMesh, target_fraction: f64) -> Result<Decimated> {
+    if !(target_fraction > 0.0 && target_fraction <= 1.0) {
+        return Err(Error::InvalidArgument(format!(
+            "decimation fraction must be in (0, 1], got {target_fraction}"
+        )));
+    }
+    let n = mesh.n_vertices();
+    if target_fraction == 1.0 {
+        return Ok(Decimated {
+            mesh: mesh.clone(),
+            original_vertex: (0..n as u32).collect(),
+        });
+    }
+    let target_vertices = ((target_fraction * n as f64).round() as usize).max(4);
+
+    // Centre on the bounding box (translation invariance, f32 precision).
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in mesh.vertices() {
+        for d in 0..3 {
+            lo[d] = lo[d].min(p[d]);
+            hi[d] = hi[d].max(p[d]);
+        }
+    }
+    let centre = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0, (lo[2] + hi[2]) / 2.0];
+    let positions: Vec<[f32; 3]> = mesh
+        .vertices()
+        .iter()
+        .map(|p| {
+            [
+                (p[0] - centre[0]) as f32,
+                (p[1] - centre[1]) as f32,
+                (p[2] - centre[2]) as f32,
+            ]
+        })
+        .collect();
+    let indices: Vec<u32> = mesh.faces().iter().flatten().copied().collect();
+
+    // Faces scale with vertices (F ~ 2V on a closed surface): start from the same fraction
+    // of faces and correct the face target by the vertex ratio reached.
+    let mut target_faces = (target_fraction * mesh.n_faces() as f64).round().max(2.0);
+    let mut best: Option<(usize, Decimated)> = None;
+    let mut last_error = String::new();
+    let mut tried = HashSet::new();
+    for _ in 0..8 {
+        let target_index_count = 3 * (target_faces as usize).max(2);
+        if !tried.insert(target_index_count) {
+            break;
+        }
+        // target_error 1.0 = the whole mesh extent: the count, not the error, stops it.
+        let out = meshopt::simplify_decoder(
+            &indices,
+            &positions,
+            target_index_count,
+            1.0,
+            SimplifyOptions::LockBorder,
+            None,
+        );
+        let reached = match assemble(mesh, &out) {
+            Ok(d) => {
+                let reached = d.mesh.n_vertices();
+                let miss = reached.abs_diff(target_vertices);
+                if best.as_ref().is_none_or(|(b, _)| miss < *b) {
+                    best = Some((miss, d));
+                }
+                reached
+            }
+            Err(e) => {
+                last_error = e.to_string();
+                // Count the vertices anyway to steer the next target.
+                let mut used = vec![false; n];
+                out.iter().for_each(|&i| used[i as usize] = true);
+                used.iter().filter(|&&u| u).count()
+            }
+        };
+        if let Some((miss, _)) = &best {
+            if *miss * 100 <= target_vertices {
+                break;
+            }
+        }
+        if reached == 0 {
+            target_faces *= 1.5;
+            continue;
+        }
+        target_faces = (target_faces * target_vertices as f64 / reached as f64)
+            .round()
+            .max(2.0);
+    }
+    best.map(|(_, d)| d).ok_or_else(|| {
+        Error::Numerical(format!(
+            "decimation produced no valid mesh (last candidate: {last_error})"
+        ))
+    })
+}
+
+/// Build the decimated mesh from meshoptimizer's index buffer (original vertex indices):
+/// drop degenerate and repeated faces, drop unreferenced vertices, validate.
+fn assemble(mesh: &TriMesh, indices: &[u32]) -> Result<Decimated, MeshError> {
+    let v = mesh.vertices();
+    let mut seen = HashSet::with_capacity(indices.len() / 3);
+    let mut faces = Vec::with_capacity(indices.len() / 3);
+    for t in indices.chunks_exact(3) {
+        let f = [t[0], t[1], t[2]];
+        if f[0] == f[1] || f[1] == f[2] || f[0] == f[2] {
+            continue;
+        }
+        let [a, b, c] = f.map(|i| v[i as usize]);
+        let l2 = |p: [f64; 3], q: [f64; 3]| (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2);
+        let longest = l2(a, b).max(l2(b, c)).max(l2(c, a));
+        // Twice the tolerance of `TriMesh::new`, so a kept face always passes it.
+        if !(super::triangle_area(a, b, c) > 2e-14 * longest) {
+            continue;
+        }
+        let mut key = f;
+        key.sort_unstable();
+        if seen.insert(key) {
+            faces.push(f);
+        }
+    }
+    if faces.is_empty() {
+        return Err(MeshError::NoFaces);
+    }
+    let (mesh, original_vertex) = TriMesh::new_dropping_isolated(v.to_vec(), faces)?;
+    Ok(Decimated { mesh, original_vertex })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::generate::{disk, grid, icosphere};
+    use crate::mesh::topology::{boundary_vertices, connected_components, euler_characteristic};
+
+    fn check_decimation(m: &TriMesh, fraction: f64) -> Decimated {
+        let d = decimate(m, fraction).unwrap();
+        let target = (fraction * m.n_vertices() as f64).round();
+        let got = d.mesh.n_vertices() as f64;
+        assert!(
+            (got - target).abs() <= 0.05 * target,
+            "{got} vertices for target {target}"
+        );
+        // Kept vertices are original vertices at their original positions.
+        assert_eq!(d.original_vertex.len(), d.mesh.n_vertices());
+        for (i, &o) in d.original_vertex.iter().enumerate() {
+            assert_eq!(d.mesh.vertices()[i], m.vertices()[o as usize]);
+        }
+        assert!(d.original_vertex.windows(2).all(|w| w[0] < w[1]));
+        // Topology kept.
+        assert_eq!(euler_characteristic(&d.mesh), euler_characteristic(m));
+        assert_eq!(connected_components(&d.mesh).1, connected_components(m).1);
+        // Deterministic.
+        let again = decimate(m, fraction).unwrap();
+        assert_eq!(again.mesh, d.mesh);
+        d
+    }
+
+    #[test]
+    fn icosphere_half() {
+        let m = icosphere(4);
+        let d = check_decimation(&m, 0.5);
+        let rel = (d.mesh.area() - m.area()).abs() / m.area();
+        assert!(rel < 0.03, "area changed by {rel}");
+    }
+
+    #[test]
+    fn boundary_is_kept() {
+        for m in [disk(1.0, 20), grid(2.0, 1.0, 40, 20)] {
+            let d = check_decimation(&m, 0.5);
+            let orig: Vec<u32> = boundary_vertices(&m);
+            let kept: Vec<u32> = boundary_vertices(&d.mesh)
+                .iter()
+                .map(|&i| d.original_vertex[i as usize])
+                .collect();
+            assert_eq!(kept, orig, "boundary changed");
+            let rel = (d.mesh.area() - m.area()).abs() / m.area();
+            assert!(rel < 1e-9, "planar area changed by {rel}");
+        }
+    }
+
+    #[test]
+    fn fraction_one_is_identity_and_bad_fraction_is_error() {
+        let m = icosphere(1);
+        let d = decimate(&m, 1.0).unwrap();
+        assert_eq!(d.mesh, m);
+        for f in [0.0, -0.5, 1.5, f64::NAN] {
+            assert!(decimate(&m, f).is_err());
+        }
+    }
+
+    #[test]
+    fn translation_does_not_change_connectivity() {
+        let m = icosphere(3);
+        let shifted = m.map_positions(|p| [p[0] + 0.25, p[1] - 0.5, p[2] + 0.125]).unwrap();
+        let a = decimate(&m, 0.5).unwrap();
+        let b = decimate(&shifted, 0.5).unwrap();
+        assert_eq!(a.original_vertex, b.original_vertex);
+        assert_eq!(a.mesh.faces(), b.mesh.faces());
+    }
+}
