@@ -1,0 +1,463 @@
+//! SHOT: Signatures of Histograms of OrienTations, a 352-dimensional local descriptor per
+//! vertex (Salti, Tombari, Di Stefano 2014, "SHOT: Unique signatures of histograms for
+//! surface and texture description", CVIU 125).
+//!
+//! Used twice by the pipeline (ALGORITHM.md): to build the descriptor start (k-means of
+//! the SHOT of both shapes, `alignment::kmeans::descriptor_baseline_mask`) and to score
+//! the candidate regions ("Choosing among the starts").
+//!
+//! # Definition
+//! For a vertex `p` with support `S = { q : 0 < |q - p| <= R }` (a kd-tree radius search):
+//!
+//! 1. **Local reference frame** (paper section 4). The weighted covariance about `p`,
+//!    $M = \frac{1}{\sum_i w_i} \sum_i w_i (q_i - p)(q_i - p)^\top$, $w_i = R - |q_i - p|$
+//!    (the sum of weights includes `p` itself, weight `R`, as in PCL). Its eigenvectors by
+//!    decreasing eigenvalue are `x`, `y`, `z`. Signs: `x` (and `z`) point towards the
+//!    majority of the `q_i - p`, i.e. `x` is flipped if
+//!    $|\{i : (q_i - p)\cdot x \ge 0\}| < |\{i : (q_i - p)\cdot x < 0\}|$; on a tie, the
+//!    five support points nearest the median distance vote by the sign of their
+//!    projection (paper eq. 5-6 and PCL's `SHOTLocalReferenceFrameEstimation`). Then
+//!    `y = z × x`.
+//! 2. **Spatial grid**: 8 azimuth sectors (angle of `(q·x, q·y)`), 2 elevation halves
+//!    (sign of `q·z`), 2 radial shells (inner `|q - p| <= R/2`): 32 sectors.
+//! 3. **Histogram** per sector of $\cos\theta_q = n_q \cdot z$ ($n_q$ the unit vertex normal at
+//!    `q`, area-weighted face normals) in 11 bins centred at `cos = -1, -0.8, ..., 1`
+//!    (PCL's layout for 10 shape bins: `32 x 11 = 352`).
+//! 4. **Quadrilinear interpolation** (paper section 5): each `q` votes into the 2 nearest
+//!    cosine bins, 2 nearest radial shells (centres `R/4`, `3R/4`), 2 nearest elevations
+//!    (centres 45° and 135° from `z`) and 2 nearest azimuths (sector centres, cyclic), with
+//!    the product of the four linear weights `1 - d` (16 bins per point). PCL adds the four
+//!    1-D weights instead of multiplying them and wraps the cosine interpolation around;
+//!    the product used here is the interpolation the paper describes and is continuous.
+//! 5. **Normalisation** to unit Euclidean norm.
+//!
+//! A vertex with fewer than `min_neighbors` support points (or an all-zero histogram)
+//! gets a zero row, and no frame.
+//!
+//! # Radius
+//! The reference implementation used radius 9 (10 bins, 3 minimum neighbours) on
+//! SHREC'16 shapes, whose `sqrt(area)` is 126..263 (median ~140) for the null shapes.
+//! [`default_shot_radius`] therefore takes [`DEFAULT_RADIUS_FRACTION`]` = 9 / 140 ≈ 0.064`
+//! of `sqrt(area)` **of the full shape**; use the same absolute radius for the partial
+//! shape (it is at the full shape's scale), so that both are described alike.
+//!
+//! # Invariance and determinism
+//! Invariant to rigid motions (the frame moves with the shape) except at vertices whose
+//! frame is degenerate (two nearly equal covariance eigenvalues, or a tie in the sign
+//! vote; see [`LocalFrame::eigenvalues`]); invariant to a uniform scale `s` when the
+//! radius becomes `s R`. Parallel over vertices (rayon), each row computed independently,
+//! so the result does not depend on the thread count.
+
+use crate::error::{Error, Result};
+use crate::mesh::nearest::KdTree;
+use crate::mesh::TriMesh;
+use faer::Mat;
+use rayon::prelude::*;
+
+/// Length of a SHOT descriptor: 32 spatial sectors x 11 cosine bins.
+pub const SHOT_DIM: usize = 352;
+/// Cosine bins per sector (PCL: `nr_shape_bins + 1` with 10 shape bins).
+pub const COS_BINS: usize = 11;
+/// Default support radius as a fraction of `sqrt(area)` of the full shape (see module doc).
+pub const DEFAULT_RADIUS_FRACTION: f64 = 9.0 / 140.0;
+/// Default minimum number of support points (reference implementation: 3).
+pub const DEFAULT_MIN_NEIGHBORS: usize = 3;
+
+/// The default support radius for a pair (full shape, partial shape):
+/// [`DEFAULT_RADIUS_FRACTION`]` * sqrt(area(full))`. Use it for both shapes.
+pub fn default_shot_radius(full: &TriMesh) -> f64 {
+    DEFAULT_RADIUS_FRACTION * full.area().sqrt()
+}
+
+/// A local reference frame of SHOT.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LocalFrame {
+    /// Rows `x`, `y`, `z` (orthonormal, right-handed).
+    pub axes: [[f64; 3]; 3],
+    /// Covariance eigenvalues for `x`, `y`, `z` (decreasing). The frame is unstable under
+    /// perturbation when two of them are close.
+    pub eigenvalues: [f64; 3],
+    /// Number of support points (excluding the vertex itself).
+    pub support: usize,
+    /// `true` when a sign vote (for `x` or `z`) was tied and fell back to the median rule.
+    pub tied_sign: bool,
+}
+
+/// SHOT descriptors with their frames.
+#[derive(Debug, Clone)]
+pub struct Shot {
+    /// `n x 352`, unit rows (zero rows where `frames[i]` is `None`).
+    pub descriptors: Mat<f64>,
+    /// The local reference frame of each vertex, `None` where the support was too small.
+    pub frames: Vec<Option<LocalFrame>>,
+}
+
+/// Unit vertex normals: the sum of the incident faces' `(b - a) x (c - a)` (area-weighted
+/// face normals), normalised. Orientation follows the face winding. A vertex whose sum
+/// vanishes gets the zero vector.
+pub fn vertex_normals(mesh: &TriMesh) -> Vec<[f64; 3]> {
+    let v = mesh.vertices();
+    let mut n = vec![[0.0f64; 3]; v.len()];
+    for f in mesh.faces() {
+        let [a, b, c] = f.map(|i| v[i as usize]);
+        let u = sub(b, a);
+        let w = sub(c, a);
+        let x = cross(u, w);
+        for &i in f {
+            for d in 0..3 {
+                n[i as usize][d] += x[d];
+            }
+        }
+    }
+    for x in &mut n {
+        let l = norm(*x);
+        if l > 0.0 {
+            *x = [x[0] / l, x[1] / l, x[2] / l];
+        }
+    }
+    n
+}
+
+/// SHOT descriptors of every vertex of `mesh` (`n x 352`, unit rows; zero rows where the
+/// support has fewer than `min_neighbors` points). `radius` is absolute (see
+/// [`default_shot_radius`]). Errors if `radius` is not finite and positive.
+pub fn shot_descriptors(mesh: &TriMesh, radius: f64, min_neighbors: usize) -> Result<Mat<f64>> {
+    Ok(shot_with_frames(mesh, radius, min_neighbors)?.descriptors)
+}
+
+/// As [`shot_descriptors`], also returning the local reference frames.
+pub fn shot_with_frames(mesh: &TriMesh, radius: f64, min_neighbors: usize) -> Result<Shot> {
+    shot_points(
+        mesh.vertices(),
+        &vertex_normals(mesh),
+        radius,
+        min_neighbors,
+    )
+}
+
+/// SHOT of a point set with given unit normals (`points.len() == normals.len()`); the
+/// mesh functions call this with the vertices and [`vertex_normals`].
+pub fn shot_points(
+    points: &[[f64; 3]],
+    normals: &[[f64; 3]],
+    radius: f64,
+    min_neighbors: usize,
+) -> Result<Shot> {
+    if !(radius > 0.0 && radius.is_finite()) {
+        return Err(Error::InvalidArgument(format!(
+            "SHOT radius must be finite and positive, got {radius}"
+        )));
+    }
+    if points.len() != normals.len() {
+        return Err(Error::InvalidArgument(format!(
+            "{} points but {} normals",
+            points.len(),
+            normals.len()
+        )));
+    }
+    if let Some(i) = normals
+        .iter()
+        .position(|p| !p.iter().all(|c| c.is_finite()))
+    {
+        return Err(Error::InvalidArgument(format!(
+            "normal {i} has a non-finite coordinate"
+        )));
+    }
+    let n = points.len();
+    let tree = KdTree::new(points)?;
+    let mut flat = vec![0.0f64; n * SHOT_DIM];
+    let frames: Vec<Option<LocalFrame>> = flat
+        .par_chunks_mut(SHOT_DIM)
+        .enumerate()
+        .map_init(Vec::new, |buf, (i, row)| {
+            tree.within_radius_into(points[i], radius, buf);
+            describe(points, normals, i, buf, radius, min_neighbors, row)
+        })
+        .collect();
+    let descriptors = Mat::from_fn(n, SHOT_DIM, |i, j| flat[i * SHOT_DIM + j]);
+    Ok(Shot {
+        descriptors,
+        frames,
+    })
+}
+
+/// One vertex: frame, histogram into `row` (already zero), normalisation.
+fn describe(
+    points: &[[f64; 3]],
+    normals: &[[f64; 3]],
+    i: usize,
+    found: &[(u32, f64)],
+    radius: f64,
+    min_neighbors: usize,
+    row: &mut [f64],
+) -> Option<LocalFrame> {
+    let p = points[i];
+    // Support without the vertex itself (and without coincident points): (offset, distance).
+    let mut support: Vec<([f64; 3], f64, u32)> = found
+        .iter()
+        .filter(|&&(_, d2)| d2 > 0.0)
+        .map(|&(j, d2)| (sub(points[j as usize], p), d2.sqrt(), j))
+        .collect();
+    if support.len() < min_neighbors.max(1) {
+        return None;
+    }
+    let n_coincident = found.len() - support.len();
+    let frame = local_frame(&mut support, radius, n_coincident)?;
+    let [x, y, z] = frame.axes;
+    let q_angle = std::f64::consts::FRAC_PI_4;
+    for &(d, dist, j) in &support {
+        let (lx, ly, lz) = (dot(d, x), dot(d, y), dot(d, z));
+        // Cosine of the angle between the neighbour's normal and z: 11 bins centred at k/5 - 1.
+        let cos = dot(normals[j as usize], z).clamp(-1.0, 1.0);
+        let t = (1.0 + cos) * 5.0;
+        let k0 = (t.floor() as usize).min(COS_BINS - 2);
+        let fc = t - k0 as f64;
+        let cos_w = [(k0, 1.0 - fc), (k0 + 1, fc)];
+        // Radial shells, centres R/4 and 3R/4.
+        let u = dist / radius;
+        let fr = ((u - 0.25) / 0.5).clamp(0.0, 1.0);
+        let rad_w = [(0usize, 1.0 - fr), (1usize, fr)];
+        // Elevation from z: upper half (index 0) centred at 45°, lower (1) at 135°.
+        let theta = (lz / dist).clamp(-1.0, 1.0).acos();
+        let fe = ((theta - q_angle) / (2.0 * q_angle)).clamp(0.0, 1.0);
+        let el_w = [(0usize, 1.0 - fe), (1usize, fe)];
+        // Azimuth: sector s covers [-pi + s pi/4, -pi + (s+1) pi/4), centre at + pi/8.
+        let phi = ly.atan2(lx);
+        let a = (phi + std::f64::consts::PI) / q_angle - 0.5;
+        let s0 = a.floor();
+        let fa = a - s0;
+        let s0 = (s0 as i64).rem_euclid(8) as usize;
+        let az_w = [(s0, 1.0 - fa), ((s0 + 1) % 8, fa)];
+        for &(ai, aw) in &az_w {
+            for &(ei, ew) in &el_w {
+                for &(ri, rw) in &rad_w {
+                    let w3 = aw * ew * rw;
+                    if w3 == 0.0 {
+                        continue;
+                    }
+                    let base = ((ai * 2 + ei) * 2 + ri) * COS_BINS;
+                    for &(ci, cw) in &cos_w {
+                        row[base + ci] += w3 * cw;
+                    }
+                }
+            }
+        }
+    }
+    let l = row.iter().map(|v| v * v).sum::<f64>().sqrt();
+    if !(l > 0.0) {
+        row.iter_mut().for_each(|v| *v = 0.0);
+        return None;
+    }
+    row.iter_mut().for_each(|v| *v /= l);
+    Some(frame)
+}
+
+/// The SHOT local reference frame (see the module doc). `support` is sorted here by
+/// (distance, index) for the median tie rule. `n_coincident` points at distance 0 (the
+/// vertex itself) add weight `R` each to the normaliser.
+fn local_frame(
+    support: &mut [([f64; 3], f64, u32)],
+    radius: f64,
+    n_coincident: usize,
+) -> Option<LocalFrame> {
+    let mut m = [[0.0f64; 3]; 3];
+    let mut wsum = radius * n_coincident as f64;
+    for &(d, dist, _) in support.iter() {
+        let w = radius - dist;
+        wsum += w;
+        for r in 0..3 {
+            for c in 0..3 {
+                m[r][c] += w * d[r] * d[c];
+            }
+        }
+    }
+    if !(wsum > 0.0) {
+        return None;
+    }
+    for row in &mut m {
+        for v in row.iter_mut() {
+            *v /= wsum;
+        }
+    }
+    let (vals, vecs) = sym_eigen3(m);
+    let mut x = vecs[0];
+    let mut z = vecs[2];
+    support.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.2.cmp(&b.2)));
+    let (fx, tx) = sign_vote(support, x);
+    let (fz, tz) = sign_vote(support, z);
+    if fx {
+        x = x.map(|c| -c);
+    }
+    if fz {
+        z = z.map(|c| -c);
+    }
+    let y = cross(z, x);
+    Some(LocalFrame {
+        axes: [x, y, z],
+        eigenvalues: vals,
+        support: support.len(),
+        tied_sign: tx || tz,
+    })
+}
+
+/// Whether `axis` should be flipped so that most offsets project non-negatively on it,
+/// and whether the vote was tied (PCL: the five points around the median distance decide).
+fn sign_vote(support: &[([f64; 3], f64, u32)], axis: [f64; 3]) -> (bool, bool) {
+    let n = support.len() as i64;
+    let plus = support.iter().filter(|s| dot(s.0, axis) >= 0.0).count() as i64;
+    let balance = 2 * plus - n;
+    if balance != 0 {
+        return (balance < 0, false);
+    }
+    let mid = support.len() / 2;
+    let lo = mid.saturating_sub(2);
+    let hi = (mid + 3).min(support.len());
+    let votes = support[lo..hi]
+        .iter()
+        .filter(|s| dot(s.0, axis) > 0.0)
+        .count();
+    (2 * votes < hi - lo, true)
+}
+
+/// Eigen-decomposition of a symmetric 3x3 matrix by cyclic Jacobi rotations:
+/// eigenvalues decreasing and the matching unit eigenvectors (right-handed triple).
+fn sym_eigen3(mut a: [[f64; 3]; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
+    let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]; // columns = eigenvectors
+    let scale = (0..3)
+        .map(|i| (0..3).map(|j| a[i][j].abs()).sum::<f64>())
+        .fold(0.0, f64::max);
+    for _ in 0..64 {
+        let off = a[0][1].abs() + a[0][2].abs() + a[1][2].abs();
+        if off <= f64::EPSILON * 1e-3 * scale || off == 0.0 {
+            break;
+        }
+        for (p, q) in [(0usize, 1usize), (0, 2), (1, 2)] {
+            if a[p][q] == 0.0 {
+                continue;
+            }
+            let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+            let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+            let t = if theta == 0.0 { 1.0 } else { t };
+            let c = 1.0 / (t * t + 1.0).sqrt();
+            let s = t * c;
+            // A <- J^T A J with the rotation in the (p, q) plane.
+            for k in 0..3 {
+                let (akp, akq) = (a[k][p], a[k][q]);
+                a[k][p] = c * akp - s * akq;
+                a[k][q] = s * akp + c * akq;
+            }
+            for k in 0..3 {
+                let (apk, aqk) = (a[p][k], a[q][k]);
+                a[p][k] = c * apk - s * aqk;
+                a[q][k] = s * apk + c * aqk;
+            }
+            for row in &mut v {
+                let (vp, vq) = (row[p], row[q]);
+                row[p] = c * vp - s * vq;
+                row[q] = s * vp + c * vq;
+            }
+        }
+    }
+    let mut idx = [0usize, 1, 2];
+    idx.sort_by(|&i, &j| a[j][j].total_cmp(&a[i][i]));
+    let vals = idx.map(|i| a[i][i]);
+    let mut vecs = idx.map(|i| [v[0][i], v[1][i], v[2][i]]);
+    for e in &mut vecs {
+        let l = norm(*e);
+        *e = e.map(|c| c / l);
+    }
+    (vals, vecs)
+}
+
+#[inline]
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+#[inline]
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+#[inline]
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+#[inline]
+fn norm(a: [f64; 3]) -> f64 {
+    dot(a, a).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn jacobi_eigen_reconstructs() {
+        let a = [[4.0, 1.0, -2.0], [1.0, 2.0, 0.5], [-2.0, 0.5, 3.0]];
+        let (vals, vecs) = sym_eigen3(a);
+        assert!(vals[0] >= vals[1] && vals[1] >= vals[2]);
+        for k in 0..3 {
+            for r in 0..3 {
+                let av: f64 = (0..3).map(|c| a[r][c] * vecs[k][c]).sum();
+                assert!((av - vals[k] * vecs[k][r]).abs() < 1e-13);
+            }
+            for l in 0..3 {
+                let d = dot(vecs[k], vecs[l]);
+                assert!((d - if k == l { 1.0 } else { 0.0 }).abs() < 1e-14);
+            }
+        }
+        let trace = a[0][0] + a[1][1] + a[2][2];
+        assert!((vals.iter().sum::<f64>() - trace).abs() < 1e-13);
+        let (vals, _) = sym_eigen3([[2.0, 0.0, 0.0], [0.0, 5.0, 0.0], [0.0, 0.0, -1.0]]);
+        assert_eq!(vals, [5.0, 2.0, -1.0]);
+    }
+
+    #[test]
+    fn unit_norm_and_right_handed_frame() {
+        let points = [
+            [0.0, 0.0, 0.0],
+            [0.3, 0.1, 0.05],
+            [-0.2, 0.4, -0.1],
+            [0.1, -0.3, 0.2],
+        ];
+        let normals = [[0.0, 0.0, 1.0]; 4];
+        let mut row = vec![0.0; SHOT_DIM];
+        let found: Vec<(u32, f64)> = (0..4u32)
+            .map(|j| {
+                (
+                    j,
+                    dot(
+                        sub(points[j as usize], points[0]),
+                        sub(points[j as usize], points[0]),
+                    ),
+                )
+            })
+            .collect();
+        let f = describe(&points, &normals, 0, &found, 1.0, 3, &mut row).unwrap();
+        assert_eq!(f.support, 3);
+        let l2: f64 = row.iter().map(|v| v * v).sum();
+        assert!((l2 - 1.0).abs() < 1e-14);
+        // Frame is orthonormal and right-handed.
+        let [x, y, z] = f.axes;
+        assert!((dot(cross(x, y), z) - 1.0).abs() < 1e-14);
+    }
+
+    #[test]
+    fn bad_input_is_an_error() {
+        let m = crate::mesh::generate::icosphere(1);
+        assert!(shot_descriptors(&m, 0.0, 3).is_err());
+        assert!(shot_descriptors(&m, f64::NAN, 3).is_err());
+        assert!(shot_points(&[[0.0; 3]], &[], 1.0, 3).is_err());
+    }
+
+    #[test]
+    fn too_small_support_gives_zero_rows() {
+        let m = crate::mesh::generate::icosphere(2);
+        let shot = shot_with_frames(&m, 1e-6, 3).unwrap();
+        assert!(shot.frames.iter().all(|f| f.is_none()));
+        assert!((0..m.n_vertices()).all(|i| (0..SHOT_DIM).all(|j| shot.descriptors[(i, j)] == 0.0)));
+    }
+}
