@@ -1,0 +1,5 @@
+//! One module per subcommand: an `Args` (clap derive) and `run(Args) -> Result<(), CliError>`.
+//! Commands convert and call the core; no formula lives here.
+
+pub mod curvature;
+pub mod spectrum;

@@ -1,0 +1,27 @@
+//! Reading the input mesh of a command.
+
+use crate::error::CliError;
+use dualspectra::mesh::io::{read_mesh_with_report, ReadOptions, ReadReport};
+use dualspectra::TriMesh;
+use std::path::Path;
+
+/// Read a mesh file (format from the extension). Polygons are fan-triangulated and
+/// two-sided flaps removed (see `dualspectra::mesh::io`); isolated vertices are an
+/// error unless `drop_isolated`.
+pub fn read_input_mesh(path: &Path, drop_isolated: bool) -> Result<(TriMesh, ReadReport), CliError> {
+    let options = ReadOptions {
+        drop_isolated,
+        ..ReadOptions::default()
+    };
+    Ok(read_mesh_with_report(path, &options)?)
+}
+
+/// Per-vertex values of the mesh scattered back to the file's vertex numbering, `None`
+/// at vertices reading dropped.
+pub fn to_file_vertices(values: &[f64], report: &ReadReport) -> Vec<Option<f64>> {
+    let mut out = vec![None; report.file_vertices];
+    for (&v, &file_index) in values.iter().zip(&report.kept_vertices) {
+        out[file_index as usize] = Some(v);
+    }
+    out
+}

@@ -1,0 +1,20 @@
+//! Writing results.
+
+use crate::error::CliError;
+use serde::Serialize;
+use std::path::Path;
+
+/// `value` as compact JSON followed by a newline.
+pub fn to_json_line<T: Serialize>(value: &T) -> Result<String, CliError> {
+    serde_json::to_string(value)
+        .map(|s| s + "\n")
+        .map_err(|e| CliError::Internal(format!("cannot encode JSON: {e}")))
+}
+
+/// Write `text` to `path`.
+pub fn write_text(path: &Path, text: &str) -> Result<(), CliError> {
+    std::fs::write(path, text).map_err(|source| CliError::Output {
+        path: path.to_path_buf(),
+        source,
+    })
+}
