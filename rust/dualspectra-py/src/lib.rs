@@ -1,1 +1,31 @@
+//! `dualspectra._dualspectra`: the native module behind the `dualspectra` Python package.
+//!
+//! Conversion and calls only: every formula lives in the core crate `dualspectra`. Arrays
+//! arrive as contiguous float64 `(n, 3)` / int64 `(m, 3)` (the Python layer converts
+//! array-likes); shapes and index ranges are checked again here, the rest by `TriMesh::new`.
+//! Errors are mapped to Python exceptions in `errors.rs` only.
 
+mod convert;
+mod errors;
+mod localization;
+mod operators;
+mod progress;
+
+use pyo3::prelude::*;
+
+#[pymodule]
+fn _dualspectra(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("MeshError", py.get_type::<errors::MeshError>())?;
+    m.add("Cancelled", py.get_type::<errors::Cancelled>())?;
+    m.add("NumericalError", py.get_type::<errors::NumericalError>())?;
+    m.add_class::<localization::Localization>()?;
+    m.add_function(wrap_pyfunction!(localization::localize, m)?)?;
+    m.add_function(wrap_pyfunction!(operators::cotangent_stiffness, m)?)?;
+    m.add_function(wrap_pyfunction!(operators::lumped_mass, m)?)?;
+    m.add_function(wrap_pyfunction!(operators::gaussian_curvature, m)?)?;
+    m.add_function(wrap_pyfunction!(operators::spectrum, m)?)?;
+    m.add_function(wrap_pyfunction!(operators::read_mesh, m)?)?;
+    Ok(())
+}
