@@ -24,6 +24,14 @@ enum Command {
     Spectrum(commands::spectrum::Args),
     /// Gaussian curvature per vertex (angle defect) and its one-ring mean.
     Curvature(commands::curvature::Args),
+    /// Find the region of FULL that PARTIAL (a deformed, cut copy) corresponds to.
+    Localize(commands::localize::Args),
+    /// Run and score the localizer on a dataset in the SHREC'16 layout.
+    Bench(commands::bench::Args),
+    /// Dual ShapeDNA distances between shapes and their 2-D MDS embedding.
+    Similarity(commands::similarity::Args),
+    /// Localize a procedural partial shape (no data needed) and score it.
+    Demo(commands::demo::Args),
 }
 
 fn main() -> ExitCode {
@@ -31,6 +39,10 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Spectrum(args) => commands::spectrum::run(args),
         Command::Curvature(args) => commands::curvature::run(args),
+        Command::Localize(args) => commands::localize::run(args),
+        Command::Bench(args) => commands::bench::run(args),
+        Command::Similarity(args) => commands::similarity::run(args),
+        Command::Demo(args) => commands::demo::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

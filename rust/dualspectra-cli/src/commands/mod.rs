@@ -3,3 +3,7 @@
 
 pub mod curvature;
 pub mod spectrum;
+pub mod bench;
+pub mod demo;
+pub mod localize;
+pub mod similarity;

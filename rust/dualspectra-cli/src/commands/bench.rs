@@ -1,0 +1,374 @@
+//! `dualspectra bench DATASET [--mode dual|lbo|si] [--k K] [--json OUT] [--svg OUT]
+//! [--limit N] [--filter SUBSTR]`
+//!
+//! Runs the localizer on every pair of a dataset in the SHREC'16 layout (`DATASET/null/`,
+//! `DATASET/cuts/`, see `dualspectra::evaluation::datasets`), one pair after another (the
+//! localizer is itself parallel), and scores each region against the ground truth:
+//! precision, recall and IoU by vertex counts, also symmetry-aware (the better of the
+//! direct and the left-right mirrored ground truth, as SHREC'16 accepts symmetric
+//! matches). Prints a table and the means; a pair that fails scores 0 and is listed with
+//! its error. `--json` writes every pair's scores, `--svg` the cumulative IoU curve (the
+//! paper's Fig. 5: fraction of pairs with IoU >= x; its area is the mean IoU).
+
+use super::localize::{progress_bar, region_indices, LocalizeOptions};
+use crate::error::CliError;
+use crate::output::{to_json_line, write_text};
+use dualspectra::evaluation::datasets::{Pair, Shrec16};
+use dualspectra::evaluation::metrics::{self, cumulative_iou, Match, Scores};
+use dualspectra::operators::lumped_mass;
+use dualspectra::{Mode, Options, Progress};
+use serde::Serialize;
+use std::path::PathBuf;
+use std::time::Instant;
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Dataset folder in the SHREC'16 layout (holding null/ and cuts/), e.g. $DUALSPECTRA_DATA/shrec16.
+    #[arg(value_name = "DATASET")]
+    pub dataset: PathBuf,
+    #[command(flatten)]
+    pub options: LocalizeOptions,
+    /// Write per-pair scores and the summary as JSON.
+    #[arg(long, value_name = "OUT")]
+    pub json: Option<PathBuf>,
+    /// Write the cumulative IoU plot as SVG.
+    #[arg(long, value_name = "OUT")]
+    pub svg: Option<PathBuf>,
+    /// Run only the first N pairs (after --filter).
+    #[arg(long, value_name = "N")]
+    pub limit: Option<usize>,
+    /// Run only pairs whose name contains SUBSTR (e.g. `cat`, `shape_1`).
+    #[arg(long, value_name = "SUBSTR")]
+    pub filter: Option<String>,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// Scores of one pair.
+#[derive(Debug, Clone, Serialize)]
+pub struct PairResult {
+    pub name: String,
+    pub class: String,
+    pub region_size: usize,
+    pub gt_size: usize,
+    /// Against the direct ground truth, by vertex counts.
+    pub scores: Scores,
+    /// Symmetry-aware, by vertex counts.
+    pub scores_sym: Scores,
+    pub matched: Match,
+    /// IoU against the direct ground truth weighted by vertex area.
+    pub area_iou: f64,
+    pub cost: f64,
+    pub seconds: f64,
+    /// Set if the pair failed (then all scores are 0).
+    pub error: Option<String>,
+    /// The region (0-based vertex indices of the full shape).
+    pub region: Vec<usize>,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Summary {
+    pub pairs: usize,
+    pub failed: usize,
+    pub mean: Scores,
+    pub mean_sym: Scores,
+    pub mean_area_iou: f64,
+    pub median_seconds: f64,
+    pub total_seconds: f64,
+}
+
+#[derive(Serialize)]
+struct Report<'a> {
+    dataset: String,
+    options: &'a Options,
+    summary: &'a Summary,
+    pairs: &'a [PairResult],
+}
+
+const ZERO: Scores = Scores {
+    precision: 0.0,
+    recall: 0.0,
+    iou: 0.0,
+};
+
+fn run_pair(
+    pair: &Pair,
+    options: &Options,
+    progress: &Progress,
+) -> Result<PairResult, dualspectra::Error> {
+    let data = pair.load()?;
+    let t = Instant::now();
+    let loc = dualspectra::localize(&data.full, &data.partial, options, progress)?;
+    let seconds = t.elapsed().as_secs_f64();
+    let scores = metrics::scores(&loc.region, &data.gt)?;
+    let (scores_sym, matched) = match &data.gt_sym {
+        Some(sym) => metrics::symmetry_aware(&loc.region, &data.gt, sym, None)?,
+        None => (scores, Match::Direct),
+    };
+    let area_iou = metrics::weighted_scores(&loc.region, &data.gt, &lumped_mass(&data.full))?.iou;
+    Ok(PairResult {
+        name: pair.name.clone(),
+        class: pair.class.clone(),
+        region_size: loc.region.iter().filter(|&&b| b).count(),
+        gt_size: data.gt.iter().filter(|&&b| b).count(),
+        scores,
+        scores_sym,
+        matched,
+        area_iou,
+        cost: loc.cost,
+        seconds,
+        error: None,
+        region: region_indices(&loc.region),
+    })
+}
+
+fn mean_scores(rs: &[PairResult], f: impl Fn(&PairResult) -> Scores) -> Scores {
+    let v: Vec<Scores> = rs.iter().map(f).collect();
+    Scores {
+        precision: metrics::mean(&v.iter().map(|s| s.precision).collect::<Vec<_>>()),
+        recall: metrics::mean(&v.iter().map(|s| s.recall).collect::<Vec<_>>()),
+        iou: metrics::mean(&v.iter().map(|s| s.iou).collect::<Vec<_>>()),
+    }
+}
+
+/// Summary over the pairs (failed pairs count with scores 0).
+pub fn summarize(results: &[PairResult]) -> Summary {
+    let secs: Vec<f64> = results
+        .iter()
+        .filter(|r| r.error.is_none())
+        .map(|r| r.seconds)
+        .collect();
+    Summary {
+        pairs: results.len(),
+        failed: results.iter().filter(|r| r.error.is_some()).count(),
+        mean: mean_scores(results, |r| r.scores),
+        mean_sym: mean_scores(results, |r| r.scores_sym),
+        mean_area_iou: metrics::mean(&results.iter().map(|r| r.area_iou).collect::<Vec<_>>()),
+        median_seconds: metrics::median(&secs),
+        total_seconds: secs.iter().sum(),
+    }
+}
+
+/// The cumulative IoU plot (direct and symmetry-aware curves) as an SVG document.
+pub fn cumulative_iou_svg(title: &str, curves: &[(String, Vec<f64>)]) -> Result<String, CliError> {
+    use plotters::prelude::*;
+    let draw_err =
+        |e: &dyn std::fmt::Display| CliError::Internal(format!("cannot draw the SVG plot: {e}"));
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (640, 480)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| draw_err(&e))?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, ("sans-serif", 20))
+            .margin(15)
+            .x_label_area_size(40)
+            .y_label_area_size(50)
+            .build_cartesian_2d(0f64..1f64, 0f64..1.02f64)
+            .map_err(|e| draw_err(&e))?;
+        chart
+            .configure_mesh()
+            .x_desc("IoU")
+            .y_desc("fraction of pairs with IoU >= x")
+            .draw()
+            .map_err(|e| draw_err(&e))?;
+        let palette = [
+            RGBColor(200, 30, 30),
+            RGBColor(30, 90, 200),
+            RGBColor(30, 150, 60),
+            RGBColor(120, 60, 160),
+        ];
+        for (i, (label, ious)) in curves.iter().enumerate() {
+            let curve = cumulative_iou(ious);
+            let color = palette[i % palette.len()];
+            chart
+                .draw_series(LineSeries::new(curve.steps(), color.stroke_width(2)))
+                .map_err(|e| draw_err(&e))?
+                .label(format!("{label} (mean IoU {:.3})", curve.area()))
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                });
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::LowerLeft)
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()
+            .map_err(|e| draw_err(&e))?;
+        root.present().map_err(|e| draw_err(&e))?;
+    }
+    Ok(svg)
+}
+
+fn print_row(r: &PairResult) {
+    match &r.error {
+        None => println!(
+            "{:<28} {:>6} {:>6} {:>6.3} {:>6.3} {:>6.3} {:>8.3} {:>8.2}",
+            r.name,
+            r.region_size,
+            r.gt_size,
+            r.scores.precision,
+            r.scores.recall,
+            r.scores.iou,
+            r.scores_sym.iou,
+            r.seconds
+        ),
+        Some(e) => println!("{:<28} failed: {e}", r.name),
+    }
+}
+
+pub fn run(args: Args) -> Result<(), CliError> {
+    let options = args.options.to_options()?;
+    let dataset = Shrec16::open(&args.dataset)?;
+    let mut pairs = dataset.pairs()?;
+    if let Some(f) = &args.filter {
+        pairs.retain(|p| p.name.contains(f.as_str()));
+    }
+    if let Some(n) = args.limit {
+        pairs.truncate(n);
+    }
+    if pairs.is_empty() {
+        return Err(CliError::Usage(format!(
+            "{}: no pairs to run (check --filter / --limit)",
+            args.dataset.display()
+        )));
+    }
+    println!(
+        "{:<28} {:>6} {:>6} {:>6} {:>6} {:>6} {:>8} {:>8}",
+        "pair", "|R|", "|G|", "prec", "recall", "IoU", "IoU_sym", "seconds"
+    );
+    let n = pairs.len();
+    let (bar, progress) = progress_bar(args.quiet, "bench");
+    let mut results = Vec::with_capacity(n);
+    for (i, pair) in pairs.iter().enumerate() {
+        bar.set_prefix(format!("bench {}/{n} {}", i + 1, pair.name));
+        let sub = progress.sub(i as f64 / n as f64, (i + 1) as f64 / n as f64);
+        let r = run_pair(pair, &options, &sub).unwrap_or_else(|e| PairResult {
+            name: pair.name.clone(),
+            class: pair.class.clone(),
+            region_size: 0,
+            gt_size: 0,
+            scores: ZERO,
+            scores_sym: ZERO,
+            matched: Match::Direct,
+            area_iou: 0.0,
+            cost: f64::NAN,
+            seconds: 0.0,
+            error: Some(
+                e.to_string()
+                    .split_whitespace()
+                    .collect::<Vec<_>>()
+                    .join(" "),
+            ),
+            region: vec![],
+        });
+        if matches!(r.error.as_deref(), Some("cancelled")) {
+            bar.finish_and_clear();
+            return Err(CliError::Core(dualspectra::Error::Cancelled));
+        }
+        bar.suspend(|| print_row(&r));
+        results.push(r);
+    }
+    bar.finish_and_clear();
+    let s = summarize(&results);
+    println!(
+        "mean ({} pairs, {} failed, mode {}): precision {:.3} recall {:.3} IoU {:.3} | symmetry-aware: precision {:.3} recall {:.3} IoU {:.3} | area-weighted IoU {:.3} | median {:.2} s/pair",
+        s.pairs,
+        s.failed,
+        options.mode,
+        s.mean.precision,
+        s.mean.recall,
+        s.mean.iou,
+        s.mean_sym.precision,
+        s.mean_sym.recall,
+        s.mean_sym.iou,
+        s.mean_area_iou,
+        s.median_seconds
+    );
+    if let Some(path) = &args.json {
+        let report = Report {
+            dataset: args.dataset.display().to_string(),
+            options: &options,
+            summary: &s,
+            pairs: &results,
+        };
+        write_text(path, &to_json_line(&report)?)?;
+    }
+    if let Some(path) = &args.svg {
+        let mode = match options.mode {
+            Mode::Dual => "dual spectra",
+            Mode::Lbo => "LBO only",
+            Mode::Si => "SI-LBO only",
+        };
+        let curves = vec![
+            (
+                format!("{mode}, symmetry-aware"),
+                results.iter().map(|r| r.scores_sym.iou).collect(),
+            ),
+            (
+                format!("{mode}, direct"),
+                results.iter().map(|r| r.scores.iou).collect(),
+            ),
+        ];
+        let svg = cumulative_iou_svg(&format!("Cumulative IoU ({} pairs)", s.pairs), &curves)?;
+        write_text(path, &svg)?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn svg_plot_has_the_curves_and_labels() {
+        let svg = cumulative_iou_svg(
+            "t",
+            &[("a".into(), vec![0.2, 0.9, 0.5]), ("b".into(), vec![1.0])],
+        )
+        .unwrap();
+        assert!(svg.starts_with("<svg"), "{}", &svg[..60.min(svg.len())]);
+        assert!(svg.contains("mean IoU 0.533"));
+        assert!(svg.contains("mean IoU 1.000"));
+        assert!(svg.matches("<polyline").count() >= 2);
+    }
+
+    #[test]
+    fn failed_pairs_count_as_zero_and_median_skips_them() {
+        let ok = PairResult {
+            name: "a".into(),
+            class: "c".into(),
+            region_size: 1,
+            gt_size: 1,
+            scores: Scores {
+                precision: 1.0,
+                recall: 1.0,
+                iou: 1.0,
+            },
+            scores_sym: Scores {
+                precision: 1.0,
+                recall: 1.0,
+                iou: 1.0,
+            },
+            matched: Match::Direct,
+            area_iou: 1.0,
+            cost: 0.0,
+            seconds: 3.0,
+            error: None,
+            region: vec![0],
+        };
+        let bad = PairResult {
+            error: Some("x".into()),
+            scores: ZERO,
+            scores_sym: ZERO,
+            area_iou: 0.0,
+            seconds: 0.0,
+            ..ok.clone()
+        };
+        let s = summarize(&[ok, bad]);
+        assert_eq!((s.pairs, s.failed), (2, 1));
+        assert_eq!(s.mean.iou, 0.5);
+        assert_eq!(s.median_seconds, 3.0);
+    }
+}

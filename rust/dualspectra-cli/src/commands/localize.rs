@@ -1,0 +1,249 @@
+//! `dualspectra localize FULL PARTIAL [--mode dual|lbo|si] [--k K] [--alpha A] [--seed N]
+//! [--json OUT] [--ply OUT]`
+//!
+//! Finds the region of `FULL` that `PARTIAL` (a deformed, cut copy) corresponds to, with
+//! `dualspectra::localize` (ALGORITHM.md, whole pipeline). Writes the result as JSON
+//! (`region`: 0-based vertex indices of FULL; `cost`; `seconds`; `mode`; `n_starts`;
+//! `timings`; the eigenvalues at the optimum and the partial's target spectra) to `OUT`
+//! with `--json`, else to standard output; `--ply` writes FULL with the region coloured
+//! (vertex colours). A progress bar runs on standard error.
+
+use crate::error::CliError;
+use crate::input::read_input_mesh;
+use crate::output::{to_json_line, write_text};
+use dualspectra::{Localization, Mode, Options, Progress, Timings, TriMesh};
+use indicatif::{ProgressBar, ProgressStyle};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ModeArg {
+    /// k regular + k scale-invariant eigenvalues (the paper's method).
+    Dual,
+    /// 2k Laplace-Beltrami eigenvalues only.
+    Lbo,
+    /// 2k scale-invariant eigenvalues only.
+    Si,
+}
+
+impl From<ModeArg> for Mode {
+    fn from(m: ModeArg) -> Mode {
+        match m {
+            ModeArg::Dual => Mode::Dual,
+            ModeArg::Lbo => Mode::Lbo,
+            ModeArg::Si => Mode::Si,
+        }
+    }
+}
+
+/// The localizer's options shared by `localize` and `bench`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct LocalizeOptions {
+    /// Which spectra are matched.
+    #[arg(long, value_enum, default_value_t = ModeArg::Dual)]
+    pub mode: ModeArg,
+    /// Eigenvalues per spectrum (dual: k + k; lbo, si: 2k) [default: the library's, 20].
+    #[arg(long, value_name = "K")]
+    pub k: Option<usize>,
+    /// Exponent of the scale-invariant metric [default: 0.33].
+    #[arg(long, value_name = "A", allow_negative_numbers = true)]
+    pub alpha: Option<f64>,
+    /// Seed of every random choice (results are deterministic for a given seed).
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    pub seed: u64,
+}
+
+impl LocalizeOptions {
+    /// The library options, checked.
+    pub fn to_options(&self) -> Result<Options, CliError> {
+        let mut o = Options {
+            mode: self.mode.into(),
+            seed: self.seed,
+            ..Options::default()
+        };
+        if let Some(k) = self.k {
+            if k == 0 {
+                return Err(CliError::Usage("--k must be at least 1".into()));
+            }
+            o.k = k;
+        }
+        if let Some(a) = self.alpha {
+            if !a.is_finite() {
+                return Err(CliError::Usage(format!("--alpha must be finite, got {a}")));
+            }
+            o.alpha = a;
+        }
+        Ok(o)
+    }
+}
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// The full shape: .off, .obj or .ply.
+    #[arg(value_name = "FULL")]
+    pub full: PathBuf,
+    /// The partial shape (a deformed, cut copy of part of FULL).
+    #[arg(value_name = "PARTIAL")]
+    pub partial: PathBuf,
+    #[command(flatten)]
+    pub options: LocalizeOptions,
+    /// Write the result JSON to this file (otherwise it goes to standard output).
+    #[arg(long, value_name = "OUT")]
+    pub json: Option<PathBuf>,
+    /// Write FULL as PLY with the region coloured (red) and the rest grey.
+    #[arg(long, value_name = "OUT")]
+    pub ply: Option<PathBuf>,
+    /// Drop vertices that belong to no face instead of failing (indices then refer to the
+    /// mesh after dropping).
+    #[arg(long)]
+    pub drop_isolated: bool,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// The JSON written by `localize` (and per pair by `bench`).
+#[derive(Debug, Serialize)]
+pub struct Output<'a> {
+    pub region: Vec<usize>,
+    pub cost: f64,
+    pub seconds: f64,
+    pub mode: Mode,
+    pub k: usize,
+    pub alpha: f64,
+    pub seed: u64,
+    pub n_vertices_full: usize,
+    pub n_vertices_partial: usize,
+    pub n_starts: usize,
+    pub selected_start: usize,
+    pub timings: &'a Timings,
+    pub eigenvalues_regular: &'a [f64],
+    pub eigenvalues_si: &'a [f64],
+    pub target_regular: &'a [f64],
+    pub target_si: &'a [f64],
+    pub warnings: &'a [String],
+}
+
+impl<'a> Output<'a> {
+    pub fn new(
+        loc: &'a Localization,
+        options: &Options,
+        seconds: f64,
+        full: &TriMesh,
+        partial: &TriMesh,
+    ) -> Self {
+        Output {
+            region: region_indices(&loc.region),
+            cost: loc.cost,
+            seconds,
+            mode: options.mode,
+            k: options.k,
+            alpha: options.alpha,
+            seed: options.seed,
+            n_vertices_full: full.n_vertices(),
+            n_vertices_partial: partial.n_vertices(),
+            n_starts: loc.n_starts,
+            selected_start: loc.selected_start,
+            timings: &loc.timings,
+            eigenvalues_regular: &loc.eigenvalues_regular,
+            eigenvalues_si: &loc.eigenvalues_si,
+            target_regular: &loc.target_regular,
+            target_si: &loc.target_si,
+            warnings: &loc.warnings,
+        }
+    }
+}
+
+/// 0-based indices of the `true` entries.
+pub fn region_indices(mask: &[bool]) -> Vec<usize> {
+    mask.iter()
+        .enumerate()
+        .filter(|(_, &b)| b)
+        .map(|(i, _)| i)
+        .collect()
+}
+
+/// Colours for a region: red inside, light grey outside.
+pub fn region_colors(mask: &[bool]) -> Vec<[u8; 3]> {
+    mask.iter()
+        .map(|&b| if b { [220, 40, 40] } else { [190, 190, 190] })
+        .collect()
+}
+
+/// A progress bar on standard error (hidden when `quiet` or stderr is not a terminal)
+/// and a [`Progress`] that drives it with the stage name as message.
+pub fn progress_bar(quiet: bool, prefix: &str) -> (ProgressBar, Progress) {
+    let bar = if quiet {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new(1000)
+    };
+    bar.set_style(
+        ProgressStyle::with_template("{prefix} [{elapsed_precise}] {wide_bar} {percent:>3}% {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    bar.set_prefix(prefix.to_string());
+    let b = bar.clone();
+    let progress = Progress::new(move |fraction, stage| {
+        b.set_position((fraction.clamp(0.0, 1.0) * 1000.0) as u64);
+        b.set_message(stage.to_string());
+        true
+    });
+    (bar, progress)
+}
+
+/// Run the localizer with a progress bar; returns the result and the wall-clock seconds.
+pub fn localize_with_bar(
+    full: &TriMesh,
+    partial: &TriMesh,
+    options: &Options,
+    quiet: bool,
+    prefix: &str,
+) -> Result<(Localization, f64), CliError> {
+    let (bar, progress) = progress_bar(quiet, prefix);
+    let t = Instant::now();
+    let result = dualspectra::localize(full, partial, options, &progress);
+    bar.finish_and_clear();
+    Ok((result?, t.elapsed().as_secs_f64()))
+}
+
+/// Write `mesh` as binary PLY with the region colours.
+pub fn write_region_ply(path: &Path, mesh: &TriMesh, region: &[bool]) -> Result<(), CliError> {
+    dualspectra::mesh::io::write_ply(path, mesh, Some(&region_colors(region)), true).map_err(|e| {
+        match e {
+            dualspectra::Error::Io { path, source } => CliError::Output { path, source },
+            other => CliError::Core(other),
+        }
+    })
+}
+
+pub fn run(args: Args) -> Result<(), CliError> {
+    let options = args.options.to_options()?;
+    let (full, _) = read_input_mesh(&args.full, args.drop_isolated)?;
+    let (partial, _) = read_input_mesh(&args.partial, args.drop_isolated)?;
+    let (loc, seconds) = localize_with_bar(&full, &partial, &options, args.quiet, "localize")?;
+    let out = Output::new(&loc, &options, seconds, &full, &partial);
+    let text = to_json_line(&out)?;
+    if let Some(path) = &args.ply {
+        write_region_ply(path, &full, &loc.region)?;
+    }
+    for w in &loc.warnings {
+        eprintln!("warning: {w}");
+    }
+    match &args.json {
+        Some(path) => {
+            write_text(path, &text)?;
+            println!(
+                "region: {} of {} vertices, cost {:.6e}, {:.2} s ({} starts)",
+                out.region.len(),
+                full.n_vertices(),
+                loc.cost,
+                seconds,
+                loc.n_starts
+            );
+        }
+        None => print!("{text}"),
+    }
+    Ok(())
+}
