@@ -18,3 +18,17 @@ pub fn write_text(path: &Path, text: &str) -> Result<(), CliError> {
         source,
     })
 }
+
+/// Print `text` on standard output. A closed pipe (`dualspectra ... | head`) ends the
+/// output quietly instead of panicking as `print!` does.
+pub fn print_stdout(text: &str) -> Result<(), CliError> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(CliError::Output {
+            path: "<standard output>".into(),
+            source: e,
+        }),
+        _ => Ok(()),
+    }
+}

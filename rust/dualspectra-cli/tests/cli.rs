@@ -291,3 +291,19 @@ fn unwritable_output_is_exit_5() {
     let msg = fails(&["curvature", &sphere, "--json", dir.to_str().unwrap()], 5);
     assert!(msg.contains("cannot write"), "{msg}");
 }
+
+#[test]
+fn a_closed_output_pipe_is_not_a_crash() {
+    use std::process::Stdio;
+    let sphere = write_mesh("sphere_pipe.off", &icosphere(5));
+    let mut child = bin()
+        .args(["curvature", &sphere])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take()); // the reader goes away before the ~1 MB of JSON is written
+    let out = child.wait_with_output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(out.stderr.is_empty(), "{}", String::from_utf8_lossy(&out.stderr));
+}

@@ -10,7 +10,7 @@
 
 use crate::error::CliError;
 use crate::input::{read_input_mesh, to_file_vertices};
-use crate::output::{to_json_line, write_text};
+use crate::output::{print_stdout, to_json_line, write_text};
 use dualspectra::shape::Shape;
 use serde::Serialize;
 use std::path::PathBuf;
@@ -44,9 +44,6 @@ pub fn run(args: Args) -> Result<(), CliError> {
     let text = to_json_line(&output)?;
     match &args.json {
         Some(out) => write_text(out, &text),
-        None => {
-            print!("{text}");
-            Ok(())
-        }
+        None => print_stdout(&text),
     }
 }

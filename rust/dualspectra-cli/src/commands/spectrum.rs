@@ -10,7 +10,7 @@
 
 use crate::error::CliError;
 use crate::input::read_input_mesh;
-use crate::output::{to_json_line, write_text};
+use crate::output::{print_stdout, to_json_line, write_text};
 use dualspectra::geometry::metric::{DEFAULT_ALPHA, DEFAULT_EPS};
 use dualspectra::shape::{Metric, Shape};
 use serde::Serialize;
@@ -77,8 +77,7 @@ pub fn run(args: Args) -> Result<(), CliError> {
     if let Some(out) = &args.json {
         write_text(out, &text)?;
     }
-    print!("{text}");
-    Ok(())
+    print_stdout(&text)
 }
 
 /// Name the mesh in argument and numerical errors that arise from it (e.g. `k` too large).
