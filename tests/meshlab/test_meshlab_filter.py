@@ -159,9 +159,9 @@ def main():
     ap.add_argument("--meshlabserver", default=shutil.which("meshlabserver") or "/usr/bin/meshlabserver")
     ap.add_argument("--meshlab-lib", default=None,
                     help="system directory holding libmeshlab-common.so and plugins/ (default: found)")
-    ap.add_argument("--level", type=int, default=int(os.environ.get("DUALSPECTRA_MESHLAB_LEVEL", "4")),
+    ap.add_argument("--level", type=int, default=int(os.environ.get("DUALSPECTRA_MESHLAB_LEVEL", "3")),
                     help="icosphere level of the generated full mesh")
-    ap.add_argument("--k", type=int, default=int(os.environ.get("DUALSPECTRA_MESHLAB_K", "20")))
+    ap.add_argument("--k", type=int, default=int(os.environ.get("DUALSPECTRA_MESHLAB_K", "10")))
     ap.add_argument("--min-iou", type=float, default=0.7)
     ap.add_argument("--timeout", type=int, default=int(os.environ.get("DUALSPECTRA_MESHLAB_TIMEOUT", "900")),
                     help="seconds allowed for the region run")
