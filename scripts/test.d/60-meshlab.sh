@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # MeshLab filter plugin: build it against MeshLab 2020.09 (Debian) and run it in the real
 # meshlabserver (under xvfb) on a generated mesh pair with a known answer, plus error paths.
-# Needs scripts/setup.d/60-meshlab.sh. DUALSPECTRA_SKIP_MESHLAB=1 skips this stage.
+# Needs scripts/setup.d/60-meshlab.sh. DUALSPECTRA_SKIP_MESHLAB=1 skips this stage;
+# DUALSPECTRA_MESHLAB_LEVEL (3), DUALSPECTRA_MESHLAB_K (10), DUALSPECTRA_MESHLAB_TIMEOUT (900 s)
+# size the region case.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 [ "${DUALSPECTRA_SKIP_MESHLAB:-0}" = 1 ] && { echo "meshlab: SKIPPED (DUALSPECTRA_SKIP_MESHLAB=1)"; exit 0; }
