@@ -88,7 +88,10 @@ fn run_scipy(pencil: &Path) -> Option<(f64, Vec<f64>)> {
 }
 
 fn main() {
-    let name = std::env::args().skip(1).find(|a| !a.starts_with('-')).unwrap_or_else(|| "cat".into());
+    let name = std::env::args()
+        .skip(1)
+        .find(|a| !a.starts_with('-'))
+        .unwrap_or_else(|| "cat".into());
     let Some(data) = std::env::var_os("DUALSPECTRA_DATA") else {
         println!("SKIP eigensolver bench: DUALSPECTRA_DATA is not set");
         return;
@@ -106,12 +109,17 @@ fn main() {
         }
     };
     let scale = 1.0 / mesh.area().sqrt();
-    let mesh = mesh.map_positions(|p| [p[0] * scale, p[1] * scale, p[2] * scale]).expect("scaling keeps a valid mesh");
+    let mesh = mesh
+        .map_positions(|p| [p[0] * scale, p[1] * scale, p[2] * scale])
+        .expect("scaling keeps a valid mesh");
     let w = cotangent_stiffness(&mesh);
     let mass = lumped_mass(&mesh);
     let n = mass.len();
     let k = 20;
-    let params = EigenParams { k, ..Default::default() };
+    let params = EigenParams {
+        k,
+        ..Default::default()
+    };
     println!("mesh {name}: {n} vertices, unit area, k = {k}");
 
     // Cold generalized problem vs scipy.
@@ -124,7 +132,9 @@ fn main() {
         spec.info.shift
     );
     let tmp = std::env::temp_dir().join(format!("dualspectra_bench_pencil_{}.bin", std::process::id()));
-    let scipy = write_pencil(&tmp, &w, &mass, k, spec.info.shift).ok().and_then(|_| run_scipy(&tmp));
+    let scipy = write_pencil(&tmp, &w, &mass, k, spec.info.shift)
+        .ok()
+        .and_then(|_| run_scipy(&tmp));
     let _ = std::fs::remove_file(&tmp);
     match scipy {
         Some((t_py, vals)) => {
@@ -144,7 +154,12 @@ fn main() {
     // Hamiltonian: cold, then warm after small steps of the potential.
     let lam_k = spec.values[k - 1];
     let tau = 50.0 * lam_k;
-    let (lo, hi) = mesh.vertices().iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| (l.min(p[1]), h.max(p[1])));
+    let (lo, hi) = mesh
+        .vertices()
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| {
+            (l.min(p[1]), h.max(p[1]))
+        });
     let field = |shift: f64| -> Vec<f64> {
         mesh.vertices()
             .iter()
@@ -190,5 +205,7 @@ fn main() {
         t_cold_total / steps as f64 * 1e3,
         t_warm_total / t_cold_total
     );
-    println!("warm (was_warm, iterations) per step: {iters:?}; max relative eigenvalue difference warm vs cold: {worst:.2e}");
+    println!(
+        "warm (was_warm, iterations) per step: {iters:?}; max relative eigenvalue difference warm vs cold: {worst:.2e}"
+    );
 }

@@ -209,7 +209,9 @@ impl ShiftedFactor {
         }
         let mat = SparseColMatRef::new(self.pattern.as_ref(), &a);
         let mut values = vec![0.0; self.symbolic.len_val()];
-        let req = self.symbolic.factorize_numeric_ldlt_scratch::<f64>(Par::Seq, Default::default());
+        let req = self
+            .symbolic
+            .factorize_numeric_ldlt_scratch::<f64>(Par::Seq, Default::default());
         let mut mem = MemBuffer::try_new(req).ok()?;
         self.symbolic
             .factorize_numeric_ldlt::<f64>(
