@@ -28,7 +28,7 @@ from . import _dualspectra
 from ._dualspectra import Cancelled, Localization, MeshError, NumericalError, __version__
 
 if TYPE_CHECKING:
-    from scipy.sparse import csc_matrix
+    from scipy.sparse import csc_matrix  # type: ignore[import-untyped, unused-ignore]
 
 __all__ = [
     "__version__",

@@ -9,6 +9,20 @@ from typing import Callable, Optional, Tuple, final
 import numpy as np
 from numpy.typing import NDArray
 
+__all__ = [
+    "__version__",
+    "MeshError",
+    "Cancelled",
+    "NumericalError",
+    "Localization",
+    "localize",
+    "cotangent_stiffness",
+    "lumped_mass",
+    "gaussian_curvature",
+    "spectrum",
+    "read_mesh",
+]
+
 __version__: str
 
 class MeshError(ValueError):
