@@ -18,11 +18,14 @@ class LocalizeJob:
     ``Cancelled``). After the run exactly one of ``result`` (the Localization),
     ``cancelled`` (True) or ``error`` (the exception) is set. ``on_progress(fraction,
     stage)``, if given, is called after each report from the running thread (for a
-    foreground run, to update Blender's progress cursor).
+    foreground run, to update Blender's progress cursor). ``time_limit`` (seconds) cancels
+    the run at the first report after it and sets :attr:`timed_out`.
     """
 
-    def __init__(self, module, full_vertices, full_faces, partial_vertices, partial_faces, on_progress=None, **options):
+    def __init__(self, module, full_vertices, full_faces, partial_vertices, partial_faces, on_progress=None,
+                 time_limit=None, **options):
         self._module = module
+        self._time_limit = time_limit if time_limit else None
         self._on_progress = on_progress
         self._args = (full_vertices, full_faces, partial_vertices, partial_faces)
         self._options = options
@@ -38,6 +41,7 @@ class LocalizeJob:
         self.result = None
         self.error = None
         self.cancelled = False
+        self.timed_out = False
 
     # -- progress, called by the library from the running thread --------------------------
     def _progress(self, fraction, stage):
@@ -47,6 +51,9 @@ class LocalizeJob:
             self._reports += 1
         if self._on_progress is not None:
             self._on_progress(self._fraction, self._stage)
+        if self._time_limit is not None and time.monotonic() - self.started_at > self._time_limit:
+            self.timed_out = True
+            self._cancel.set()
         return not self._cancel.is_set()
 
     def progress(self):

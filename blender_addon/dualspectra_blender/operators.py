@@ -176,6 +176,21 @@ class DUALSPECTRA_OT_localize(bpy.types.Operator):
     k: IntProperty(name="k", description="Eigenvalues per spectrum", default=20, min=1, max=200, soft_max=60)
     alpha: FloatProperty(name="Alpha", description="Exponent of the scale-invariant metric", default=0.33, min=0.0, max=1.0)
     seed: IntProperty(name="Seed", description="Seed of every random choice", default=0, min=0)
+    centers: IntProperty(
+        name="Start Centres",
+        description="Farthest-point centres of the Gaussian starts, 4 starts each (0: library default, 10)",
+        default=0, min=0, soft_max=20,
+    )
+    max_iterations: IntProperty(
+        name="Iterations",
+        description="Trust-region iterations per start (0: library default, 100)",
+        default=0, min=0, soft_max=200,
+    )
+    time_limit: FloatProperty(
+        name="Time Limit",
+        description="Stop with an error after this many seconds (0: no limit)",
+        default=0.0, min=0.0, subtype='TIME', unit='TIME_ABSOLUTE',
+    )
     use_modifiers: BoolProperty(name="Use Modifiers", description="Use the evaluated meshes (modifiers applied)", default=True)
     background: BoolProperty(
         name="Run in Background",
@@ -200,6 +215,9 @@ class DUALSPECTRA_OT_localize(bpy.types.Operator):
         layout.prop(self, "k")
         layout.prop(self, "alpha")
         layout.prop(self, "seed")
+        layout.prop(self, "centers")
+        layout.prop(self, "max_iterations")
+        layout.prop(self, "time_limit")
         layout.prop(self, "use_modifiers")
 
     # read and check; returns the job (not started) or raises UserError / ImportError / MeshDataError
@@ -214,17 +232,21 @@ class DUALSPECTRA_OT_localize(bpy.types.Operator):
         self._n_original = len(full.data.vertices)
         self._full_mesh = full_mesh
         self._original_to_evaluated = original_to_evaluated
+        # Optional tuning, passed only when set so the library's defaults apply otherwise.
+        tuning = {name: getattr(self, name) for name in ("centers", "max_iterations") if getattr(self, name) > 0}
         return LocalizeJob(
             module,
             full_mesh.vertices,
             full_mesh.faces,
             partial_mesh.vertices,
             partial_mesh.faces,
+            on_progress=on_progress,
+            time_limit=self.time_limit,
             mode=self.mode.lower(),
             k=self.k,
             alpha=self.alpha,
             seed=self.seed,
-            on_progress=on_progress,
+            **tuning,
         )
 
     def _start(self, context, on_progress=None):
@@ -235,6 +257,9 @@ class DUALSPECTRA_OT_localize(bpy.types.Operator):
             return None
 
     def _finish(self, context, job):
+        if job.timed_out:
+            self.report({'ERROR'}, f"Localization stopped: time limit of {self.time_limit:g} s exceeded")
+            return {'CANCELLED'}
         if job.cancelled:
             self.report({'WARNING'}, "Localization cancelled")
             return {'CANCELLED'}
