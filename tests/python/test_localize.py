@@ -15,6 +15,7 @@ from conftest import bumpy, cut
 import dualspectra as ds
 
 FAST = dict(k=10, centers=3, max_iterations=40, resolution=0)
+DEADLINE_S = 240.0  # the run is cancelled (and the test fails) past this, so CI cannot hang
 
 
 @pytest.fixture(scope="module")
@@ -29,8 +30,19 @@ def pair():
 
 def test_localize_finds_the_cut(pair) -> None:
     v, f, pv, pf, truth = pair
+    import time
+
     stages = []
-    r = ds.localize(v, f, pv, pf, progress=lambda x, s: stages.append((x, s)), **FAST)
+    start = time.monotonic()
+
+    def cb(x: float, s: str) -> bool:
+        stages.append((x, s))
+        return time.monotonic() - start < DEADLINE_S
+
+    try:
+        r = ds.localize(v, f, pv, pf, progress=cb, **FAST)
+    except ds.Cancelled:
+        pytest.fail(f"localize did not finish within {DEADLINE_S} s (last progress {stages[-1]})")
     assert r.region.dtype == np.bool_ and r.region.shape == (len(v),)
     assert r.score.shape == r.potential.shape == (len(v),)
     iou = (r.region & truth).sum() / (r.region | truth).sum()
