@@ -52,6 +52,12 @@ pub struct LocalizeOptions {
     /// Seed of every random choice (results are deterministic for a given seed).
     #[arg(long, value_name = "N", default_value_t = 0)]
     pub seed: u64,
+    /// Farthest-point centres of the Gaussian starts (4 starts each) [default: the library's, 10].
+    #[arg(long, value_name = "N")]
+    pub centers: Option<usize>,
+    /// Trust-region iterations per start [default: the library's, 100].
+    #[arg(long, value_name = "N")]
+    pub iterations: Option<usize>,
 }
 
 impl LocalizeOptions {
@@ -67,6 +73,17 @@ impl LocalizeOptions {
                 return Err(CliError::Usage("--k must be at least 1".into()));
             }
             o.k = k;
+        }
+        for (name, v, field) in [
+            ("--centers", self.centers, &mut o.centers),
+            ("--iterations", self.iterations, &mut o.max_iterations),
+        ] {
+            if let Some(v) = v {
+                if v == 0 {
+                    return Err(CliError::Usage(format!("{name} must be at least 1")));
+                }
+                *field = v;
+            }
         }
         if let Some(a) = self.alpha {
             if !a.is_finite() {

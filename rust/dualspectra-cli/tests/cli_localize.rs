@@ -1,0 +1,233 @@
+//! End-to-end checks of `localize`, `bench`, `demo` and `similarity` through the binary,
+//! on the procedural pair that `dualspectra demo --out` writes (no data files needed).
+//! Light localizer settings (`--k 6 --centers 2 --iterations 30`) keep them fast; the
+//! checks are on the output schema and the laws of the scores, not on a result value.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::sync::OnceLock;
+
+const LIGHT: [&str; 6] = ["--k", "6", "--centers", "2", "--iterations", "30"];
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_dualspectra"))
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!(
+        "dualspectra_cli_localize_{}_{name}",
+        std::process::id()
+    ));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn run(cmd: &mut Command) -> Output {
+    let out = cmd.output().expect("run dualspectra");
+    assert!(
+        out.status.success(),
+        "{:?} failed: {}\n{}",
+        cmd,
+        String::from_utf8_lossy(&out.stderr),
+        String::from_utf8_lossy(&out.stdout)
+    );
+    out
+}
+
+/// The demo folder, built once for all tests.
+fn demo_dir() -> &'static Path {
+    static DIR: OnceLock<PathBuf> = OnceLock::new();
+    DIR.get_or_init(|| {
+        let d = tmp("demo");
+        let out = run(bin().args(["demo", "--quiet", "--out"]).arg(&d).args(LIGHT));
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(text.contains("IoU"), "{text}");
+        for f in [
+            "full.off",
+            "partial.off",
+            "region.ply",
+            "ground_truth.ply",
+            "result.json",
+            "dataset/null/figure.off",
+        ] {
+            assert!(d.join(f).is_file(), "demo did not write {f}");
+        }
+        d
+    })
+}
+
+fn n_vertices_off(path: &Path) -> usize {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut it = text.split_whitespace();
+    assert_eq!(it.next(), Some("OFF"));
+    it.next().unwrap().parse().unwrap()
+}
+
+#[test]
+fn localize_writes_the_json_schema_and_a_ply() {
+    let d = demo_dir();
+    let out_dir = tmp("localize");
+    let (json, ply) = (out_dir.join("r.json"), out_dir.join("r.ply"));
+    run(bin()
+        .args(["localize", "--quiet"])
+        .arg(d.join("full.off"))
+        .arg(d.join("partial.off"))
+        .args(LIGHT)
+        .args(["--mode", "dual", "--seed", "3", "--json"])
+        .arg(&json)
+        .arg("--ply")
+        .arg(&ply));
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let n = n_vertices_off(&d.join("full.off"));
+    let region = v["region"].as_array().expect("region array");
+    assert!(!region.is_empty());
+    let idx: Vec<u64> = region
+        .iter()
+        .map(|x| x.as_u64().expect("integer index"))
+        .collect();
+    assert!(idx.iter().all(|&i| (i as usize) < n));
+    assert!(
+        idx.windows(2).all(|w| w[0] < w[1]),
+        "indices sorted and unique"
+    );
+    assert!(v["cost"].as_f64().unwrap().is_finite());
+    assert!(v["seconds"].as_f64().unwrap() >= 0.0);
+    assert_eq!(v["mode"], "dual");
+    assert_eq!(v["seed"], 3);
+    assert_eq!(v["k"], 6);
+    assert!(v["n_starts"].as_u64().unwrap() >= 1);
+    assert!(v["timings"]["total"].as_f64().is_some());
+    assert_eq!(v["eigenvalues_regular"].as_array().unwrap().len(), 6);
+    assert_eq!(v["target_si"].as_array().unwrap().len(), 6);
+    let ply_head = std::fs::read(&ply).unwrap();
+    let head = String::from_utf8_lossy(&ply_head[..200.min(ply_head.len())]).to_string();
+    assert!(
+        head.starts_with("ply")
+            && head.contains(&format!("element vertex {n}"))
+            && head.contains("red"),
+        "{head}"
+    );
+}
+
+#[test]
+fn bench_on_a_one_pair_dataset_prints_the_table_and_json() {
+    let d = demo_dir();
+    let out_dir = tmp("bench");
+    let (json, svg) = (out_dir.join("b.json"), out_dir.join("b.svg"));
+    let out = run(bin()
+        .args(["bench", "--quiet"])
+        .arg(d.join("dataset"))
+        .args(LIGHT)
+        .arg("--json")
+        .arg(&json)
+        .arg("--svg")
+        .arg(&svg));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("cuts_figure_shape_1")
+            && text.contains("IoU_sym")
+            && text.contains("mean (1 pairs, 0 failed"),
+        "{text}"
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let p = &v["pairs"][0];
+    assert_eq!(p["name"], "cuts_figure_shape_1");
+    assert!(p["error"].is_null());
+    for key in ["precision", "recall", "iou"] {
+        let x = p["scores"][key].as_f64().unwrap();
+        assert!((0.0..=1.0).contains(&x), "{key} = {x}");
+    }
+    let iou = p["scores"]["iou"].as_f64().unwrap();
+    assert!(
+        iou <= p["scores"]["precision"]
+            .as_f64()
+            .unwrap()
+            .min(p["scores"]["recall"].as_f64().unwrap())
+            + 1e-12
+    );
+    assert_eq!(v["summary"]["mean"]["iou"].as_f64().unwrap(), iou);
+    assert!(std::fs::read_to_string(&svg).unwrap().starts_with("<svg"));
+}
+
+#[test]
+fn similarity_of_two_shapes_is_symmetric() {
+    let d = demo_dir();
+    let out_dir = tmp("similarity");
+    let json = out_dir.join("s.json");
+    let svg = out_dir.join("s.svg");
+    run(bin()
+        .args(["similarity", "--quiet", "--k", "5"])
+        .arg(d.join("full.off"))
+        .arg(d.join("dataset/null/figure.off"))
+        .arg(d.join("partial.off"))
+        .arg("--json")
+        .arg(&json)
+        .arg("--svg")
+        .arg(&svg));
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let m = &v["dual"]["distances"];
+    for i in 0..3 {
+        assert_eq!(m[i][i].as_f64().unwrap(), 0.0);
+        for j in 0..3 {
+            assert_eq!(m[i][j], m[j][i]);
+        }
+    }
+    // The same shape written twice is at distance 0; the partial is not.
+    assert!(m[0][1].as_f64().unwrap() < 1e-9);
+    assert!(m[0][2].as_f64().unwrap() > 1e-3);
+    assert!(std::fs::read_to_string(&svg).unwrap().contains("figure"));
+}
+
+fn expect_failure(cmd: &mut Command, code: i32, needle: &str) {
+    let out = cmd.output().unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(code),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
+    assert_eq!(lines.len(), 1, "one-line message expected: {err}");
+    assert!(
+        lines[0].starts_with("error: ") && lines[0].contains(needle),
+        "{err}"
+    );
+}
+
+#[test]
+fn missing_file_and_empty_partial_are_one_line_errors() {
+    let dir = tmp("errors");
+    let full = dir.join("full.off");
+    std::fs::write(&full, "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n").unwrap();
+    let missing = dir.join("nope.off");
+    expect_failure(
+        bin().args(["localize", "--quiet"]).arg(&full).arg(&missing),
+        3,
+        "nope.off",
+    );
+    let empty = dir.join("empty.off");
+    std::fs::write(&empty, "OFF\n0 0 0\n").unwrap();
+    expect_failure(
+        bin().args(["localize", "--quiet"]).arg(&full).arg(&empty),
+        3,
+        "empty.off",
+    );
+    expect_failure(
+        bin().args(["bench", "--quiet"]).arg(dir.join("no_dataset")),
+        3,
+        "no_dataset",
+    );
+    expect_failure(
+        bin()
+            .args(["localize", "--quiet", "--k", "0"])
+            .arg(&full)
+            .arg(&full),
+        2,
+        "--k",
+    );
+}
