@@ -41,7 +41,8 @@ impl Default for EigenParams {
 pub struct EigenInfo {
     /// All `k` pairs met the tolerance.
     pub converged: bool,
-    /// Krylov-Schur restarts (cold) or block iterations (warm) used.
+    /// Cold solve: extra deflated Krylov-Schur rounds triggered by the inertia check (0 unless an
+    /// exactly repeated eigenvalue was split by the cut). Warm solve: LOBPCG iterations.
     pub iterations: usize,
     /// $\max_i \lVert H\phi_i - \lambda_i M\phi_i \rVert_{M^{-1}} / (|\lambda_i| + |\sigma|)$ with
     /// $H$ the operator of the pencil and $\sigma$ the shift: a relative backward error
