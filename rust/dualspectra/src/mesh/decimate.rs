@@ -16,7 +16,9 @@
 //! centred on its bounding box first, so the result does not depend on a translation
 //! beyond `f32` rounding of the quadric errors.
 //!
-//! The output is checked by [`TriMesh::new`]: degenerate faces (at `f64`) and repeated
+//! meshoptimizer can create an edge shared by three faces; the vertices of such faces and
+//! their input one-rings are then locked and the simplification rerun. The output is checked by [`TriMesh::new`]:
+//! degenerate faces (at `f64`) and repeated
 //! faces are dropped, and a candidate with a non-manifold edge is rejected; the function
 //! tries a few target counts and returns the valid result nearest the target, or
 //! [`Error::Numerical`] if none is valid. Deterministic: same input, same output.
@@ -68,7 +70,11 @@ pub fn decimate(mesh: &TriMesh, target_fraction: f64) -> Result<Decimated> {
             hi[d] = hi[d].max(p[d]);
         }
     }
-    let centre = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0, (lo[2] + hi[2]) / 2.0];
+    let centre = [
+        (lo[0] + hi[0]) / 2.0,
+        (lo[1] + hi[1]) / 2.0,
+        (lo[2] + hi[2]) / 2.0,
+    ];
     let positions: Vec<[f32; 3]> = mesh
         .vertices()
         .iter()
@@ -93,15 +99,7 @@ pub fn decimate(mesh: &TriMesh, target_fraction: f64) -> Result<Decimated> {
         if !tried.insert(target_index_count) {
             break;
         }
-        // target_error 1.0 = the whole mesh extent: the count, not the error, stops it.
-        let out = meshopt::simplify_decoder(
-            &indices,
-            &positions,
-            target_index_count,
-            1.0,
-            SimplifyOptions::LockBorder,
-            None,
-        );
+        let out = simplify_manifold(mesh, &indices, &positions, target_index_count);
         let reached = match assemble(mesh, &out) {
             Ok(d) => {
                 let reached = d.mesh.n_vertices();
@@ -139,9 +137,67 @@ pub fn decimate(mesh: &TriMesh, target_fraction: f64) -> Result<Decimated> {
     })
 }
 
-/// Build the decimated mesh from meshoptimizer's index buffer (original vertex indices):
-/// drop degenerate and repeated faces, drop unreferenced vertices, validate.
-fn assemble(mesh: &TriMesh, indices: &[u32]) -> Result<Decimated, MeshError> {
+/// meshoptimizer's simplification with border locked; where the result has edges in more
+/// than two faces, the vertices of those faces and their one-rings in the input are locked
+/// and the simplification rerun
+/// (up to 8 rounds, while the lock set grows). Returns the last index buffer.
+fn simplify_manifold(
+    mesh: &TriMesh,
+    indices: &[u32],
+    positions: &[[f32; 3]],
+    target_index_count: usize,
+) -> Vec<u32> {
+    let mut locks = vec![false; mesh.n_vertices()];
+    let mut out = Vec::new();
+    let mut neighbors: Option<Vec<Vec<u32>>> = None;
+    for _ in 0..8 {
+        // target_error 1.0 = the whole mesh extent: the count, not the error, stops it.
+        out = meshopt::simplify_with_locks_decoder(
+            indices,
+            positions,
+            &locks,
+            target_index_count,
+            1.0,
+            SimplifyOptions::LockBorder,
+            None,
+        );
+        let faces = clean_faces(mesh, &out);
+        let mut count: std::collections::HashMap<(u32, u32), u32> =
+            std::collections::HashMap::new();
+        for f in &faces {
+            for e in 0..3 {
+                let (a, b) = (f[e], f[(e + 1) % 3]);
+                *count.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+            }
+        }
+        let mut grew = false;
+        for f in &faces {
+            let bad = (0..3).any(|e| {
+                let (a, b) = (f[e], f[(e + 1) % 3]);
+                count[&(a.min(b), a.max(b))] > 2
+            });
+            if bad {
+                // The offending faces' vertices and their rings in the input: the vertex
+                // whose collapse made the edge was a neighbour of it.
+                let nb = neighbors.get_or_insert_with(|| super::topology::vertex_neighbors(mesh));
+                for &v in f {
+                    for &u in nb[v as usize].iter().chain(std::iter::once(&v)) {
+                        grew |= !locks[u as usize];
+                        locks[u as usize] = true;
+                    }
+                }
+            }
+        }
+        if !grew {
+            break;
+        }
+    }
+    out
+}
+
+/// Faces of meshoptimizer's index buffer without repeated-vertex, degenerate (at f64) or
+/// repeated faces, in order.
+fn clean_faces(mesh: &TriMesh, indices: &[u32]) -> Vec<[u32; 3]> {
     let v = mesh.vertices();
     let mut seen = HashSet::with_capacity(indices.len() / 3);
     let mut faces = Vec::with_capacity(indices.len() / 3);
@@ -151,7 +207,9 @@ fn assemble(mesh: &TriMesh, indices: &[u32]) -> Result<Decimated, MeshError> {
             continue;
         }
         let [a, b, c] = f.map(|i| v[i as usize]);
-        let l2 = |p: [f64; 3], q: [f64; 3]| (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2);
+        let l2 = |p: [f64; 3], q: [f64; 3]| {
+            (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)
+        };
         let longest = l2(a, b).max(l2(b, c)).max(l2(c, a));
         // Twice the tolerance of `TriMesh::new`, so a kept face always passes it.
         if !(super::triangle_area(a, b, c) > 2e-14 * longest) {
@@ -163,11 +221,22 @@ fn assemble(mesh: &TriMesh, indices: &[u32]) -> Result<Decimated, MeshError> {
             faces.push(f);
         }
     }
+    faces
+}
+
+/// Build the decimated mesh from meshoptimizer's index buffer (original vertex indices):
+/// drop degenerate and repeated faces, drop unreferenced vertices, validate.
+fn assemble(mesh: &TriMesh, indices: &[u32]) -> Result<Decimated, MeshError> {
+    let v = mesh.vertices();
+    let faces = clean_faces(mesh, indices);
     if faces.is_empty() {
         return Err(MeshError::NoFaces);
     }
     let (mesh, original_vertex) = TriMesh::new_dropping_isolated(v.to_vec(), faces)?;
-    Ok(Decimated { mesh, original_vertex })
+    Ok(Decimated {
+        mesh,
+        original_vertex,
+    })
 }
 
 #[cfg(test)]
@@ -235,7 +304,9 @@ mod tests {
     #[test]
     fn translation_does_not_change_connectivity() {
         let m = icosphere(3);
-        let shifted = m.map_positions(|p| [p[0] + 0.25, p[1] - 0.5, p[2] + 0.125]).unwrap();
+        let shifted = m
+            .map_positions(|p| [p[0] + 0.25, p[1] - 0.5, p[2] + 0.125])
+            .unwrap();
         let a = decimate(&m, 0.5).unwrap();
         let b = decimate(&shifted, 0.5).unwrap();
         assert_eq!(a.original_vertex, b.original_vertex);
