@@ -61,6 +61,19 @@ pub struct Options {
     pub max_iterations: usize,
     /// Worker threads (0: all cores).
     pub threads: usize,
+    /// How the result is chosen among the optimised starts.
+    pub selection: Selection,
+}
+
+/// Rule choosing among the optimised starts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum Selection {
+    /// SHOT descriptors projected on the first eigenfunctions (ALGORITHM.md; the paper's rule).
+    #[default]
+    Descriptors,
+    /// The lowest final alignment cost.
+    Cost,
 }
 
 impl Default for Options {
@@ -74,6 +87,7 @@ impl Default for Options {
             centers: 10,
             max_iterations: 100,
             threads: 0,
+            selection: Selection::Descriptors,
         }
     }
 }
@@ -111,8 +125,23 @@ pub struct Localization {
     pub selected_start: usize,
     pub n_starts: usize,
     pub timings: Timings,
+    /// Every optimised start (the selected one is `candidates[selected_start]`), for inspection.
+    pub candidates: Vec<Candidate>,
     /// Notes on repairs made to the input (e.g. a disconnected partial reduced to its largest component).
     pub warnings: Vec<String>,
+}
+
+/// One optimised start: its label, final cost, selection score and region on the full mesh.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct Candidate {
+    pub label: String,
+    pub cost: f64,
+    /// Descriptor-projection score (lower is better; NaN where not computed).
+    pub selection_score: f64,
+    pub iterations: usize,
+    pub evaluations: usize,
+    /// Region on the full mesh's vertices.
+    pub region: Vec<bool>,
 }
 
 /// What one start produced.

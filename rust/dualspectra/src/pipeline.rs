@@ -7,7 +7,7 @@ use crate::alignment::starts::{farthest_point_samples, gaussian_starts, Start};
 use crate::alignment::trust_region::{minimize, TrustRegionParams};
 use crate::error::{Error, Result};
 use crate::localize::internal::{check_options, largest_component};
-use crate::localize::{Localization, Mode, Options, StartOutcome, Timings};
+use crate::localize::{Candidate, Localization, Mode, Options, Selection, StartOutcome, Timings};
 use crate::mesh::TriMesh;
 use crate::progress::Progress;
 use crate::region::energy::{area_matched_region, eigenvector_energy};
@@ -61,8 +61,19 @@ pub(crate) fn run(full: &TriMesh, partial: &TriMesh, options: &Options, progress
     }
 
     // --- Decimated full shape.
-    let (opt_mesh, _opt_to_full) = if options.resolution > 0 && options.resolution < full_n.n_vertices() {
-        optimisation_mesh(&full_n, options.resolution)?
+    let decimated = if options.resolution > 0 && options.resolution < full_n.n_vertices() {
+        match optimisation_mesh(&full_n, options.resolution) {
+            Ok(d) => Some(d),
+            Err(e) => {
+                warnings.push(format!("decimation failed ({e}); optimising on the full-resolution shape"));
+                None
+            }
+        }
+    } else {
+        None
+    };
+    let (opt_mesh, _opt_to_full) = if let Some(d) = decimated {
+        d
     } else {
         let n = full_n.n_vertices() as u32;
         (full_n.clone(), (0..n).collect())
@@ -157,30 +168,62 @@ pub(crate) fn run(full: &TriMesh, partial: &TriMesh, options: &Options, progress
         warnings.push(format!("some starts failed and were skipped: {e}"));
     }
 
-    // --- Choice among the starts.
+    // --- Region of every start, on the optimisation mesh and on the full shape.
     let t0 = Instant::now();
-    progress.report(0.92, "selecting")?;
-    let selected = ok
+    progress.report(0.9, "regions")?;
+    let neighbors = crate::mesh::topology::vertex_neighbors(&full_n);
+    let nearest = crate::mesh::nearest::nearest_vertices(opt_shape.mesh().vertices(), full_n.vertices())?;
+    let opt_regions: Vec<Vec<bool>> = ok
         .iter()
-        .enumerate()
-        .min_by(|a, b| a.1.cost.total_cmp(&b.1.cost).then(a.0.cmp(&b.0)))
-        .map(|(i, _)| i)
-        .unwrap_or(0);
-    let best = &ok[selected];
-    let t_sel = t0.elapsed().as_secs_f64();
-
-    // --- Region on the optimisation mesh, then on the full shape.
-    let t0 = Instant::now();
-    progress.report(0.95, "region")?;
-    let opt_region = area_matched_region(&best.energy, opt_shape.mass(), partial_area);
-    let (region, score, potential) = crate::region::transfer_to_full(
-        &opt_shape,
-        &full_n,
-        &opt_region,
-        &best.energy,
-        &potential_from_w(&best.w, terms[0].height),
-    )?;
+        .map(|o| area_matched_region(&o.energy, opt_shape.mass(), partial_area))
+        .collect();
+    let full_regions: Vec<Vec<bool>> = opt_regions
+        .iter()
+        .map(|r| {
+            let t: Vec<bool> = nearest.iter().map(|&j| r[j as usize]).collect();
+            crate::region::closing::close(&t, &neighbors, crate::region::CLOSING_RINGS)
+        })
+        .collect::<Result<_>>()?;
     let t_region = t0.elapsed().as_secs_f64();
+
+    // --- Choice among the starts: descriptors projected on eigenfunctions (lowest score).
+    let t0 = Instant::now();
+    progress.report(0.93, "selecting")?;
+    let selection = if options.selection == Selection::Descriptors {
+        let radius = crate::alignment::shot::DEFAULT_RADIUS_FRACTION; // full shape has unit area
+        let d_full = crate::alignment::shot::shot_descriptors(opt_shape.mesh(), radius, crate::alignment::shot::DEFAULT_MIN_NEIGHBORS)?;
+        let d_part = crate::alignment::shot::shot_descriptors(part_shape.mesh(), radius, crate::alignment::shot::DEFAULT_MIN_NEIGHBORS)?;
+        let metrics: Vec<Metric> = terms.iter().map(|t| t.metric).collect();
+        let heights: Vec<f64> = terms.iter().map(|t| 2.0 * t.height).collect();
+        let targets = crate::alignment::selection::partial_signatures(&part_shape, &d_part, &metrics)?;
+        crate::alignment::selection::selection_scores(&opt_shape, &d_full, &metrics, &targets, &heights, &opt_regions)?
+    } else {
+        vec![f64::NAN; ok.len()]
+    };
+    let key = |i: usize| if options.selection == Selection::Descriptors { selection[i] } else { ok[i].cost };
+    let selected = (0..ok.len()).min_by(|&a, &b| key(a).total_cmp(&key(b)).then(a.cmp(&b))).unwrap_or(0);
+    let t_sel = t0.elapsed().as_secs_f64();
+    progress.report(0.98, "finishing")?;
+
+    let best = &ok[selected];
+    let emax = best.energy.iter().cloned().fold(0.0, f64::max).max(f64::MIN_POSITIVE);
+    let score: Vec<f64> = nearest.iter().map(|&j| (best.energy[j as usize] / emax).clamp(0.0, 1.0)).collect();
+    let v_opt = potential_from_w(&best.w, terms[0].height);
+    let potential: Vec<f64> = nearest.iter().map(|&j| v_opt[j as usize] / scale.powi(2)).collect();
+    let region = full_regions[selected].clone();
+    let candidates = ok
+        .iter()
+        .zip(full_regions)
+        .zip(&selection)
+        .map(|((o, r), &sc)| Candidate {
+            label: o.label.clone(),
+            cost: o.cost,
+            selection_score: sc,
+            iterations: o.iterations,
+            evaluations: o.evaluations,
+            region: r,
+        })
+        .collect();
     progress.report(1.0, "done")?;
 
     let mut eig = best.eigenvalues.iter();
@@ -206,6 +249,7 @@ pub(crate) fn run(full: &TriMesh, partial: &TriMesh, options: &Options, progress
             region: t_region,
             total: t_start.elapsed().as_secs_f64(),
         },
+        candidates,
         warnings,
     })
 }

@@ -61,7 +61,8 @@ impl<'a> AlignmentCost<'a> {
                 return Err(Error::InvalidArgument("target eigenvalues must be positive and finite".into()));
             }
             let mass = dir.restrict(shape.metric_mass(t.metric));
-            let params = EigenParams { k: t.target.len(), ..EigenParams::default() };
+            // The optimiser needs eigenvalues to ~1e-8, not machine precision.
+            let params = EigenParams { k: t.target.len(), tol: 1e-8, ..EigenParams::default() };
             solvers.push(HamiltonianSolver::new(shape.dirichlet_stiffness(), &mass, params)?);
             masses.push(mass);
         }

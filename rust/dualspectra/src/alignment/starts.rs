@@ -5,6 +5,13 @@
 //! With $g(x) = 1 - \exp(-|x - c|^2 / (2\sigma^2))$: $w_0 = g - 1/2$ opens a well (low
 //! potential, the candidate region) around $c$; $w_0 = 1/2 - g$ opens everything but $c$.
 
+/// Amplitude $a$ of the Gaussian starts, $w_0 = a(g - 1/2)$. The reference uses $a = 1$, whose
+/// "well" still holds $v \approx 0.54c \approx 27\mu_k$: the first tens of iterations only pull
+/// that potential down, and the Hamiltonian's eigenvalues start in a tight cluster that
+/// Krylov methods resolve slowly. With $a = 4$ the well is $v \approx 0.02c$ and the outside
+/// $v \approx 1.98c$: the start is the step potential of a candidate region.
+pub const START_AMPLITUDE: f64 = 4.0;
+
 /// A starting point of the optimisation.
 #[derive(Debug, Clone)]
 pub struct Start {
@@ -45,15 +52,16 @@ pub fn farthest_point_samples(points: &[[f64; 3]], count: usize, seed: u64) -> V
     chosen
 }
 
-/// Gaussian starts: for each centre and width, `w0 = g - 1/2` ("well") and `w0 = 1/2 - g` ("bump").
+/// Gaussian starts: for each centre and width, `w0 = a(g - 1/2)` ("well") and `w0 = a(1/2 - g)` ("bump").
 pub fn gaussian_starts(points: &[[f64; 3]], centres: &[usize], sigmas: &[f64]) -> Vec<Start> {
     let mut out = Vec::with_capacity(centres.len() * sigmas.len() * 2);
     for &c in centres {
         for (si, &sigma) in sigmas.iter().enumerate() {
             let g: Vec<f64> =
                 points.iter().map(|&p| 1.0 - (-dist2(p, points[c]) / (2.0 * sigma * sigma)).exp()).collect();
-            out.push(Start { w0: g.iter().map(|x| x - 0.5).collect(), label: format!("well@{c}/sigma{si}") });
-            out.push(Start { w0: g.iter().map(|x| 0.5 - x).collect(), label: format!("bump@{c}/sigma{si}") });
+            let a = START_AMPLITUDE;
+            out.push(Start { w0: g.iter().map(|x| a * (x - 0.5)).collect(), label: format!("well@{c}/sigma{si}") });
+            out.push(Start { w0: g.iter().map(|x| a * (0.5 - x)).collect(), label: format!("bump@{c}/sigma{si}") });
         }
     }
     out
