@@ -47,10 +47,12 @@ fn test_meshes() -> Vec<(&'static str, TriMesh)> {
     ]
 }
 
+type Writer = fn(&Path, &TriMesh) -> dualspectra::Result<()>;
+
 #[test]
 fn round_trip_every_format_is_bit_exact() {
     for (name, mesh) in test_meshes() {
-        let writers: [(&str, fn(&Path, &TriMesh) -> dualspectra::Result<()>); 4] = [
+        let writers: [(&str, Writer); 4] = [
             ("off", write_off),
             ("obj", write_obj),
             ("ply", |p, m| write_ply(p, m, None, false)),
