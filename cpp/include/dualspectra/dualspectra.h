@@ -35,6 +35,9 @@ typedef uint32_t ds_metric;
 // Which spectra `ds_localize` matches (`ds_options.mode`).
 typedef uint32_t ds_mode;
 
+// How `ds_localize` chooses among its optimised starts (`ds_options.selection`).
+typedef uint32_t ds_selection;
+
 // Parameters of `ds_localize`. Start from `ds_options_default()` and change fields.
 typedef struct ds_options {
   // One of `DS_MODE_DUAL`, `DS_MODE_LBO`, `DS_MODE_SI`.
@@ -45,6 +48,16 @@ typedef struct ds_options {
   double alpha;
   // Seed of every random choice: results are deterministic for a given seed.
   uint64_t seed;
+  // Vertices of the decimated full shape the potential is optimised on (0: no decimation).
+  size_t resolution;
+  // Farthest-point centres of the Gaussian starts (each gives 4 starts).
+  size_t centers;
+  // Trust-region iterations per start (at least 1).
+  size_t max_iterations;
+  // Worker threads (0: all cores).
+  size_t threads;
+  // One of `DS_SELECTION_DESCRIPTORS`, `DS_SELECTION_COST`.
+  ds_selection selection;
 } ds_options;
 
 // Progress callback: `fraction` in [0, 1] of the whole computation, `stage` a short
@@ -94,6 +107,12 @@ typedef struct ds_timings {
 
 // 2k scale-invariant eigenvalues only.
 #define DS_MODE_SI 2
+
+// SHOT descriptors projected on the first eigenfunctions (the paper's rule; the default).
+#define DS_SELECTION_DESCRIPTORS 0
+
+// The lowest final alignment cost.
+#define DS_SELECTION_COST 1
 
 // The surface's own metric (Laplace-Beltrami spectrum).
 #define DS_METRIC_REGULAR 0
@@ -265,6 +284,20 @@ ds_status ds_result_timings(const struct ds_result *result, struct ds_timings *o
 // # Safety
 // `result` a live handle; non-NULL pointers valid for one write.
 ds_status ds_result_starts(const struct ds_result *result, size_t *selected, size_t *n_starts);
+
+// Number of warnings about repairs made to the input (e.g. a disconnected partial reduced to
+// its largest component); 0 for NULL.
+//
+// # Safety
+// `result` must be NULL or a live handle.
+size_t ds_result_n_warnings(const struct ds_result *result);
+
+// Warning `index` (< `ds_result_n_warnings`), NUL-terminated and owned by the result (valid
+// until `ds_result_destroy`); NULL for a NULL result or an index out of range.
+//
+// # Safety
+// `result` must be NULL or a live handle.
+const char *ds_result_warning(const struct ds_result *result, size_t index);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -49,6 +49,13 @@ pub const DS_MODE_LBO: ds_mode = 1;
 /// 2k scale-invariant eigenvalues only.
 pub const DS_MODE_SI: ds_mode = 2;
 
+/// How `ds_localize` chooses among its optimised starts (`ds_options.selection`).
+pub type ds_selection = u32;
+/// SHOT descriptors projected on the first eigenfunctions (the paper's rule; the default).
+pub const DS_SELECTION_DESCRIPTORS: ds_selection = 0;
+/// The lowest final alignment cost.
+pub const DS_SELECTION_COST: ds_selection = 1;
+
 /// Which metric a spectrum is computed in.
 pub type ds_metric = u32;
 /// The surface's own metric (Laplace-Beltrami spectrum).
@@ -64,6 +71,8 @@ pub struct ds_mesh {
 /// The result of `ds_localize` (immutable).
 pub struct ds_result {
     pub(crate) loc: Localization,
+    /// `loc.warnings` as C strings, owned by the result.
+    pub(crate) warnings: Vec<CString>,
 }
 
 /// Parameters of `ds_localize`. Start from `ds_options_default()` and change fields.
@@ -78,6 +87,16 @@ pub struct ds_options {
     pub alpha: f64,
     /// Seed of every random choice: results are deterministic for a given seed.
     pub seed: u64,
+    /// Vertices of the decimated full shape the potential is optimised on (0: no decimation).
+    pub resolution: usize,
+    /// Farthest-point centres of the Gaussian starts (each gives 4 starts).
+    pub centers: usize,
+    /// Trust-region iterations per start (at least 1).
+    pub max_iterations: usize,
+    /// Worker threads (0: all cores).
+    pub threads: usize,
+    /// One of `DS_SELECTION_DESCRIPTORS`, `DS_SELECTION_COST`.
+    pub selection: ds_selection,
 }
 
 /// Wall-clock seconds per stage of `ds_localize`.
@@ -429,7 +448,21 @@ pub unsafe extern "C" fn ds_spectrum(
 /// The paper's default parameters.
 #[no_mangle]
 pub extern "C" fn ds_options_default() -> ds_options {
-    guard_value(ds_options { mode: DS_MODE_DUAL, k: 20, alpha: 0.33, seed: 0 }, || crate::options_to_c(&Options::default()))
+    // `Options::default()` cannot panic; the fallback only satisfies the panic guard.
+    guard_value(
+        ds_options {
+            mode: DS_MODE_DUAL,
+            k: 20,
+            alpha: 0.33,
+            seed: 0,
+            resolution: 0,
+            centers: 1,
+            max_iterations: 1,
+            threads: 0,
+            selection: DS_SELECTION_DESCRIPTORS,
+        },
+        || crate::options_to_c(&Options::default()),
+    )
 }
 
 struct CallbackData {
@@ -479,7 +512,8 @@ pub unsafe extern "C" fn ds_localize(
             }
         };
         let loc = crate::localize(&full.shape, &partial.shape, &opts, &prog)?;
-        let h = Box::into_raw(Box::new(ds_result { loc }));
+        let warnings = loc.warnings.iter().map(|w| CString::new(w.replace('\0', " ")).unwrap_or_default()).collect();
+        let h = Box::into_raw(Box::new(ds_result { loc, warnings }));
         unsafe { write_out(out, h, "out") }
     })
 }
@@ -643,5 +677,28 @@ pub unsafe extern "C" fn ds_result_starts(result: *const ds_result, selected: *m
             unsafe { write_out(n_starts, r.loc.n_starts, "n_starts")? };
         }
         Ok(())
+    })
+}
+
+/// Number of warnings about repairs made to the input (e.g. a disconnected partial reduced to
+/// its largest component); 0 for NULL.
+///
+/// # Safety
+/// `result` must be NULL or a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn ds_result_n_warnings(result: *const ds_result) -> usize {
+    guard_value(0, || unsafe { handle(result, "result") }.map(|r| r.warnings.len()).unwrap_or(0))
+}
+
+/// Warning `index` (< `ds_result_n_warnings`), NUL-terminated and owned by the result (valid
+/// until `ds_result_destroy`); NULL for a NULL result or an index out of range.
+///
+/// # Safety
+/// `result` must be NULL or a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn ds_result_warning(result: *const ds_result, index: usize) -> *const c_char {
+    guard_value(std::ptr::null(), || match unsafe { handle(result, "result") } {
+        Ok(r) => r.warnings.get(index).map_or(std::ptr::null(), |w| w.as_ptr()),
+        Err(_) => std::ptr::null(),
     })
 }

@@ -14,26 +14,38 @@
 pub mod c_abi;
 pub mod cxx_bridge;
 
-use dualspectra::{Error, Localization, Mode, Options, Progress, TriMesh};
+use dualspectra::shape::{Metric, Shape};
+use dualspectra::{Error, Localization, Mode, Options, Progress, Selection, TriMesh};
 
-/// Spectrum metric, shared by both interfaces.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Metric {
-    Regular,
-    ScaleInvariant,
-}
-
-/// A mesh handle's payload: the validated mesh (per-mesh operators are cached by the core).
+/// A mesh handle's payload: the core's [`Shape`] (the mesh with its operators cached on first
+/// use, so repeated curvature/spectrum queries on one handle do not recompute them).
 pub(crate) struct ShapeCache {
-    mesh: TriMesh,
+    shape: Shape,
 }
 
 impl ShapeCache {
     pub(crate) fn new(mesh: TriMesh) -> Self {
-        ShapeCache { mesh }
+        ShapeCache { shape: Shape::new(mesh) }
     }
     pub(crate) fn mesh(&self) -> &TriMesh {
-        &self.mesh
+        self.shape.mesh()
+    }
+    /// Cotangent stiffness $W$ (cached).
+    pub(crate) fn stiffness(&self) -> &dualspectra::operators::SparseMatrix {
+        self.shape.stiffness()
+    }
+    /// Run `f` on the handle's shape, or, for the scale-invariant metric with an exponent
+    /// other than the handle's, on a fresh [`Shape`] with exponent `alpha`.
+    fn with_metric<T>(&self, metric: Metric, alpha: f64, f: impl FnOnce(&Shape) -> Result<T, Error>) -> Result<T, Error> {
+        if !alpha.is_finite() {
+            return Err(Error::InvalidArgument(format!("alpha must be finite, got {alpha}")));
+        }
+        if metric == Metric::Regular || alpha == self.shape.alpha() {
+            f(&self.shape)
+        } else {
+            let eps = dualspectra::geometry::metric::DEFAULT_EPS;
+            f(&Shape::with_metric_params(self.mesh().clone(), alpha, eps))
+        }
     }
 }
 
@@ -75,24 +87,51 @@ pub(crate) fn mode_code(mode: Mode) -> u32 {
     }
 }
 
-/// Check the options every interface accepts: k >= 1, finite alpha.
-pub(crate) fn checked_options(mode: Mode, k: usize, alpha: f64, seed: u64) -> Result<Options, Error> {
-    if k == 0 {
-        return Err(Error::InvalidArgument("k must be at least 1".into()));
+pub(crate) fn selection_from_code(code: u32) -> Result<Selection, Error> {
+    match code {
+        c_abi::DS_SELECTION_DESCRIPTORS => Ok(Selection::Descriptors),
+        c_abi::DS_SELECTION_COST => Ok(Selection::Cost),
+        _ => Err(Error::InvalidArgument(format!("unknown selection {code} (expected 0 = descriptors, 1 = cost)"))),
     }
-    if !alpha.is_finite() {
-        return Err(Error::InvalidArgument(format!("alpha must be finite, got {alpha}")));
-    }
-    #[allow(clippy::needless_update)]
-    Ok(Options { mode, k, alpha, seed, ..Options::default() })
 }
 
+pub(crate) fn selection_code(selection: Selection) -> u32 {
+    match selection {
+        Selection::Descriptors => c_abi::DS_SELECTION_DESCRIPTORS,
+        Selection::Cost => c_abi::DS_SELECTION_COST,
+    }
+}
+
+/// Options from the C struct (the same fields as the C++ one). Ranges are checked by the core's
+/// `localize` (each violation is an `InvalidArgument`).
 pub(crate) fn options_from_c(o: &c_abi::ds_options) -> Result<Options, Error> {
-    checked_options(mode_from_code(o.mode)?, o.k, o.alpha, o.seed)
+    #[allow(clippy::needless_update)]
+    Ok(Options {
+        mode: mode_from_code(o.mode)?,
+        k: o.k,
+        alpha: o.alpha,
+        seed: o.seed,
+        resolution: o.resolution,
+        centers: o.centers,
+        max_iterations: o.max_iterations,
+        threads: o.threads,
+        selection: selection_from_code(o.selection)?,
+        ..Options::default()
+    })
 }
 
 pub(crate) fn options_to_c(o: &Options) -> c_abi::ds_options {
-    c_abi::ds_options { mode: mode_code(o.mode), k: o.k, alpha: o.alpha, seed: o.seed }
+    c_abi::ds_options {
+        mode: mode_code(o.mode),
+        k: o.k,
+        alpha: o.alpha,
+        seed: o.seed,
+        resolution: o.resolution,
+        centers: o.centers,
+        max_iterations: o.max_iterations,
+        threads: o.threads,
+        selection: selection_code(o.selection),
+    }
 }
 
 /// `major * 10000 + minor * 100 + patch` of this crate.
@@ -102,23 +141,25 @@ pub(crate) fn version_number() -> u32 {
     a * 10000 + b * 100 + c
 }
 
+/// Pointwise (angle-defect) Gaussian curvature, raw or one-ring smoothed (cached by the core).
 pub(crate) fn gaussian_curvature(shape: &ShapeCache, smoothed: bool) -> Vec<f64> {
     if smoothed {
-        dualspectra::geometry::smoothed_gaussian_curvature(shape.mesh())
+        shape.shape.smoothed_curvature().to_vec()
     } else {
-        dualspectra::geometry::gaussian_curvature(shape.mesh())
+        shape.shape.gaussian_curvature().to_vec()
     }
 }
 
+/// The `k` smallest Dirichlet eigenvalues in `metric` ([`Shape::dirichlet_spectrum`]); a
+/// scale-invariant spectrum with an `alpha` other than the handle's default uses a fresh
+/// [`Shape`] with that exponent.
 pub(crate) fn spectrum(shape: &ShapeCache, k: usize, metric: Metric, alpha: f64) -> Result<Vec<f64>, Error> {
-    if k == 0 {
-        return Err(Error::InvalidArgument("k must be at least 1".into()));
-    }
-    if !alpha.is_finite() {
-        return Err(Error::InvalidArgument(format!("alpha must be finite, got {alpha}")));
-    }
-    let _ = (shape, metric);
-    Err(Error::Numerical("spectrum: the core's eigensolver is not available yet".into()))
+    shape.with_metric(metric, alpha, |s| Ok(s.dirichlet_spectrum(metric, k)?.values))
+}
+
+/// Mass diagonal of `metric` ([`Shape::metric_mass`]), all vertices.
+pub(crate) fn mass(shape: &ShapeCache, metric: Metric, alpha: f64) -> Result<Vec<f64>, Error> {
+    shape.with_metric(metric, alpha, |s| Ok(s.metric_mass(metric).to_vec()))
 }
 
 pub(crate) fn localize(full: &ShapeCache, partial: &ShapeCache, options: &Options, progress: &Progress) -> Result<Localization, Error> {
