@@ -1,4 +1,4 @@
 #!/usr/bin/env bash
-# Rust unit and integration tests of the core, CLI and FFI crates (workspace lints deny warnings).
+# Rust unit and integration tests of the core, CLI and FFI crates; every test binary runs (--no-fail-fast).
 set -euo pipefail
-cargo test --workspace --exclude dualspectra-py 2>&1
+cargo test --workspace --exclude dualspectra-py --no-fail-fast 2>&1

@@ -227,8 +227,10 @@ def main():
 
         if wanted("region"):
             print("case region: full + a plane cut of it, moved rigidly (%d expected vertices)" % len(expected))
-            status, text, out = run_server(server, work, "region", [full, partial],
-                                           mlx(0, 1, k=args.k, write_score=True), save_mask=["vf", "vq", "sa"],
+            # meshlabserver saves the current layer, which is the last one loaded: load the
+            # partial first (layer 0) so that the full mesh (layer 1) is the one saved.
+            status, text, out = run_server(server, work, "region", [partial, full],
+                                           mlx(1, 0, k=args.k, write_score=True), save_mask=["vf", "vq", "sa"],
                                            timeout=args.timeout)
             no_crash(checks, "region", status, text)
             ok = status == 0 and out is not None and os.path.exists(out)

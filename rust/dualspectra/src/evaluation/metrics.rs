@@ -154,7 +154,9 @@ impl CumulativeIou {
     /// The exact step curve as corner points `(x, c(x))`, from (0, 1) to (1, c(1)), for plotting.
     pub fn steps(&self) -> Vec<(f64, f64)> {
         let mut pts = vec![(0.0, self.fraction_at_least(0.0))];
-        for &v in &self.sorted {
+        let mut distinct = self.sorted.clone();
+        distinct.dedup();
+        for &v in &distinct {
             let before = self.fraction_at_least(v);
             let after = self.fraction_at_least(v + f64::EPSILON.max(v * f64::EPSILON));
             pts.push((v, before));
@@ -162,7 +164,10 @@ impl CumulativeIou {
                 pts.push((v, after));
             }
         }
-        pts.push((1.0, self.fraction_at_least(1.0)));
+        // Close the curve at x = 1 unless an IoU of exactly 1 already put the corner there.
+        if pts.last().is_none_or(|p| p.0 < 1.0) {
+            pts.push((1.0, self.fraction_at_least(1.0)));
+        }
         pts
     }
     /// $\int_0^1 c(x)\,dx$, exactly (equals the mean of the clamped IoUs).
