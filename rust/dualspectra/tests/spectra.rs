@@ -228,7 +228,10 @@ fn hamiltonian_with_large_potential_localises() {
         .map(|i| m[i] * s.vectors[(i, 0)].powi(2))
         .sum();
     assert!(outside < 0.05, "outside mass {outside}");
-    assert!(residual_rel_norm(&w, &m, &v, &s) < 1e-9);
+    // Cold solves with a potential use the block shift-invert iteration, converged to the warm
+    // tolerance (eigenvalue error ~ residual^2, so 1e-6 here still means ~1e-12 on lambda).
+    let r = residual_rel_norm(&w, &m, &v, &s);
+    assert!(r < 1e-6, "residual {r:e}");
 }
 
 #[test]
