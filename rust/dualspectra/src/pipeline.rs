@@ -229,7 +229,6 @@ pub(crate) fn run(full: &TriMesh, partial: &TriMesh, options: &Options, progress
     let mut eig = best.eigenvalues.iter();
     let eigenvalues_regular = if k_reg > 0 { eig.next().cloned().unwrap_or_default() } else { Vec::new() };
     let eigenvalues_si = if k_si > 0 { eig.next().cloned().unwrap_or_default() } else { Vec::new() };
-    let _ = &best.label;
     Ok(Localization {
         region,
         score,
