@@ -1,0 +1,100 @@
+// Command-line options shared by the CGAL and OpenMesh examples.
+#pragma once
+
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <dualspectra/dualspectra.hpp>
+
+namespace example {
+
+struct Args {
+  std::string full, partial, output, indices;
+  dualspectra::Options options = dualspectra::default_options();
+  bool quiet = false;
+};
+
+inline const char* usage_text() {
+  return "  FULL PARTIAL OUTPUT [options]\n"
+         "  FULL, PARTIAL: triangle meshes (OFF, PLY, OBJ, ...) read by the host library\n"
+         "  OUTPUT: the full mesh with the region as vertex colours (red = region) and the score\n"
+         "options (defaults: the paper's settings):\n"
+         "  --mode dual|lbo|si   --k N   --alpha A   --seed N   --resolution N (0: no decimation)\n"
+         "  --centers N   --iterations N   --threads N (0: all cores)   --selection descriptors|cost\n"
+         "  --indices FILE   also write the region's vertex indices (0-based, file order), one a line\n"
+         "  --quiet          no progress on stderr\n";
+}
+
+inline std::size_t to_size(const std::string& flag, const std::string& s) {
+  std::size_t used = 0;
+  unsigned long long v = 0;
+  try {
+    v = std::stoull(s, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != s.size() || s.empty() || s[0] == '-') throw std::invalid_argument(flag + " expects a non-negative integer, got '" + s + "'");
+  return static_cast<std::size_t>(v);
+}
+
+inline Args parse(int argc, char** argv) {
+  Args a;
+  std::vector<std::string> positional;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
+      return argv[++i];
+    };
+    if (arg == "--mode") {
+      const std::string m = value();
+      if (m == "dual") a.options.mode = dualspectra::Mode::Dual;
+      else if (m == "lbo") a.options.mode = dualspectra::Mode::Lbo;
+      else if (m == "si") a.options.mode = dualspectra::Mode::Si;
+      else throw std::invalid_argument("--mode expects dual, lbo or si, got '" + m + "'");
+    } else if (arg == "--selection") {
+      const std::string m = value();
+      if (m == "descriptors") a.options.selection = dualspectra::Selection::Descriptors;
+      else if (m == "cost") a.options.selection = dualspectra::Selection::Cost;
+      else throw std::invalid_argument("--selection expects descriptors or cost, got '" + m + "'");
+    } else if (arg == "--k") a.options.k = to_size(arg, value());
+    else if (arg == "--alpha") a.options.alpha = std::stod(value());
+    else if (arg == "--seed") a.options.seed = to_size(arg, value());
+    else if (arg == "--resolution") a.options.resolution = to_size(arg, value());
+    else if (arg == "--centers") a.options.centers = to_size(arg, value());
+    else if (arg == "--iterations") a.options.max_iterations = to_size(arg, value());
+    else if (arg == "--threads") a.options.threads = to_size(arg, value());
+    else if (arg == "--indices") a.indices = value();
+    else if (arg == "--quiet") a.quiet = true;
+    else if (arg.size() > 1 && arg[0] == '-') throw std::invalid_argument("unknown option " + arg);
+    else positional.push_back(arg);
+  }
+  if (positional.size() != 3) throw std::invalid_argument("expected FULL PARTIAL OUTPUT");
+  a.full = positional[0];
+  a.partial = positional[1];
+  a.output = positional[2];
+  return a;
+}
+
+// Progress on stderr, one line per stage change.
+inline dualspectra::ProgressCallback progress_printer(bool quiet) {
+  if (quiet) return {};
+  auto last = std::make_shared<std::string>();
+  return [last](double fraction, std::string_view stage) {
+    if (stage != *last) {
+      *last = std::string(stage);
+      std::fprintf(stderr, "  [%3.0f%%] %s\n", 100.0 * fraction, last->c_str());
+    }
+    return true;
+  };
+}
+
+inline bool ends_with(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+}  // namespace example

@@ -1,0 +1,131 @@
+// dualspectra <-> OpenMesh adapter (header-only; link dualspectra::openmesh).
+//
+//   #include <OpenMesh/Core/IO/MeshIO.hh>
+//   #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+//   #include <dualspectra/openmesh.hpp>
+//   OpenMesh::TriMesh_ArrayKernelT<> full_om, part_om;  // float or double points
+//   auto full = dualspectra::openmesh::to_mesh(full_om), part = dualspectra::openmesh::to_mesh(part_om);
+//   dualspectra::Localization r = dualspectra::localize(full.mesh, part.mesh);
+//   dualspectra::openmesh::write_region(full_om, full, r);  // bool property + status().selected()
+//
+// Works with any OpenMesh mesh type (TriMesh or PolyMesh kernels, float or double points).
+// Conversion: the non-deleted vertices that belong to at least one non-deleted face become the
+// dualspectra vertices, in handle order; deleted elements (before garbage_collection) are
+// skipped and isolated vertices left out (they get `false` / 0 on write-back). Every face must
+// be a triangle: a polygon face throws dualspectra::Error(Status::InvalidMesh) naming it
+// (triangulate first: mesh.triangulate()). The dualspectra::Mesh constructor then validates the
+// result and throws Error(Status::InvalidMesh) with its reason.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <OpenMesh/Core/Mesh/Handles.hh>
+#include <OpenMesh/Core/Utils/Property.hh>
+
+#include "dualspectra/dualspectra.hpp"
+
+namespace dualspectra {
+namespace openmesh {
+
+// An OpenMesh mesh converted to a dualspectra::Mesh, with the vertex correspondence.
+struct Converted {
+  Mesh mesh;
+  // vertex_of[i]: the OpenMesh vertex of dualspectra vertex i.
+  std::vector<OpenMesh::VertexHandle> vertex_of;
+  // index_of[vh.idx()]: dualspectra index of an OpenMesh vertex, or `none` (deleted or isolated).
+  std::vector<std::uint32_t> index_of;
+  static constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
+
+  std::uint32_t index(OpenMesh::VertexHandle vh) const {
+    return vh.is_valid() && static_cast<std::size_t>(vh.idx()) < index_of.size() ? index_of[vh.idx()] : none;
+  }
+};
+
+// Convert an OpenMesh triangle mesh (throws Error(Status::InvalidMesh) on polygon faces or an
+// invalid mesh; see the file comment).
+template <class OMesh>
+Converted to_mesh(const OMesh& om) {
+  constexpr std::uint32_t none = Converted::none;
+  const std::size_t slots = om.n_vertices();  // handle space, deleted vertices included
+  if (slots >= none) throw Error(Status::InvalidMesh, "OpenMesh mesh has too many vertices for 32-bit indices");
+  std::vector<std::uint32_t> index_of(slots, none);
+  std::vector<char> used(slots, 0);
+  std::vector<std::uint32_t> triangles;
+  triangles.reserve(3 * om.n_faces());
+  for (auto fh : om.faces()) {  // skips deleted faces
+    std::uint32_t tri[3];
+    std::size_t degree = 0;
+    for (auto vh : om.fv_range(fh)) {
+      if (degree < 3) tri[degree] = static_cast<std::uint32_t>(vh.idx());
+      ++degree;
+    }
+    if (degree != 3)
+      throw Error(Status::InvalidMesh, "OpenMesh face " + std::to_string(fh.idx()) + " has " + std::to_string(degree) +
+                                           " vertices; dualspectra needs a triangle mesh (call mesh.triangulate() first)");
+    for (auto k : tri) {
+      used[k] = 1;
+      triangles.push_back(k);  // OpenMesh index for now, renumbered below
+    }
+  }
+  std::vector<OpenMesh::VertexHandle> vertex_of;
+  std::vector<double> positions;
+  for (auto vh : om.vertices()) {  // skips deleted vertices
+    const auto k = static_cast<std::size_t>(vh.idx());
+    if (!used[k]) continue;
+    index_of[k] = static_cast<std::uint32_t>(vertex_of.size());
+    vertex_of.push_back(OpenMesh::VertexHandle(vh.idx()));
+    const auto& p = om.point(vh);
+    positions.push_back(static_cast<double>(p[0]));
+    positions.push_back(static_cast<double>(p[1]));
+    positions.push_back(static_cast<double>(p[2]));
+  }
+  for (auto& t : triangles) t = index_of[t];
+  Mesh mesh(positions, triangles);
+  return Converted{std::move(mesh), std::move(vertex_of), std::move(index_of)};
+}
+
+// Write per-vertex values of a dualspectra result (indexed like conv.mesh) into the vertex
+// property `name` of om (created if missing, reused if present); vertices not in the conversion
+// get `fill`. Throws Error(Status::InvalidArgument) if the sizes do not match.
+template <class T, class OMesh, class Values>
+OpenMesh::VPropHandleT<T> write_vertex_values(OMesh& om, const Converted& conv, const Values& values,
+                                              const std::string& name, T fill) {
+  if (values.size() != conv.vertex_of.size())
+    throw Error(Status::InvalidArgument, "result has " + std::to_string(values.size()) +
+                                             " vertex values but the converted mesh has " +
+                                             std::to_string(conv.vertex_of.size()) + " vertices");
+  OpenMesh::VPropHandleT<T> h;
+  if (!om.get_property_handle(h, name)) om.add_property(h, name);
+  for (auto vh : om.all_vertices()) om.property(h, vh) = fill;
+  for (std::size_t i = 0; i < conv.vertex_of.size(); ++i) om.property(h, conv.vertex_of[i]) = static_cast<T>(values[i]);
+  return h;
+}
+
+// The region as a bool vertex property (default "v:dualspectra_region") and, with
+// `select = true`, as the vertices' status().selected() flag (vertex status is requested if
+// the mesh has none; vertices outside the region are deselected).
+template <class OMesh>
+OpenMesh::VPropHandleT<bool> write_region(OMesh& om, const Converted& conv, const Localization& result,
+                                          const std::string& name = "v:dualspectra_region", bool select = true) {
+  auto h = write_vertex_values<bool>(om, conv, result.region, name, false);
+  if (select) {
+    if (!om.has_vertex_status()) om.request_vertex_status();
+    for (auto vh : om.all_vertices()) om.status(vh).set_selected(om.property(h, vh));
+  }
+  return h;
+}
+
+// The soft membership score in [0, 1] as a double vertex property (default "v:dualspectra_score").
+template <class OMesh>
+OpenMesh::VPropHandleT<double> write_score(OMesh& om, const Converted& conv, const Localization& result,
+                                           const std::string& name = "v:dualspectra_score") {
+  return write_vertex_values<double>(om, conv, result.score, name, 0.0);
+}
+
+}  // namespace openmesh
+}  // namespace dualspectra

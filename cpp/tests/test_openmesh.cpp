@@ -1,0 +1,130 @@
+// The OpenMesh adapter (dualspectra/openmesh.hpp): float and double TriMesh round trips,
+// deleted elements (before garbage_collection), isolated vertices, polygon faces rejected in a
+// PolyMesh, region write-back as a property and as the `selected` status flag.
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+
+#include <dualspectra/openmesh.hpp>
+
+#include "test_meshes.hpp"
+
+static dstest::Checker T;
+
+struct DoubleTraits : public OpenMesh::DefaultTraits {
+  typedef OpenMesh::Vec3d Point;
+  typedef OpenMesh::Vec3d Normal;
+};
+using TriMeshF = OpenMesh::TriMesh_ArrayKernelT<>;
+using TriMeshD = OpenMesh::TriMesh_ArrayKernelT<DoubleTraits>;
+using PolyMesh = OpenMesh::PolyMesh_ArrayKernelT<>;
+
+template <class OM>
+static OM to_openmesh(const dstest::SimpleMesh& m, std::vector<OpenMesh::VertexHandle>* handles = nullptr) {
+  OM om;
+  std::vector<OpenMesh::VertexHandle> vh;
+  for (const auto& v : m.V) vh.push_back(om.add_vertex(typename OM::Point(v[0], v[1], v[2])));
+  for (const auto& f : m.F) om.add_face(vh[f[0]], vh[f[1]], vh[f[2]]);
+  if (handles) *handles = vh;
+  return om;
+}
+
+int main() {
+  try {
+    const auto src = dstest::bumpy_sphere(3);
+    const dualspectra::Mesh ref(src.V, src.F);
+    const auto K_ref = dualspectra::gaussian_curvature(ref);
+    {
+      const auto om = to_openmesh<TriMeshD>(src);
+      const auto conv = dualspectra::openmesh::to_mesh(om);
+      T.check(conv.mesh.vertices() == src.V && conv.mesh.faces() == src.F, "double TriMesh: exact round trip");
+    }
+    {
+      const auto om = to_openmesh<TriMeshF>(src);
+      const auto conv = dualspectra::openmesh::to_mesh(om);
+      double err = 0;
+      const auto V = conv.mesh.vertices();
+      for (std::size_t i = 0; i < V.size(); ++i)
+        for (int d = 0; d < 3; ++d) err = std::max(err, std::abs(V[i][d] - src.V[i][d]));
+      T.check(conv.mesh.faces() == src.F && err < 1e-6,
+              "float TriMesh: same faces, positions rounded to float (max error " + std::to_string(err) + ")");
+    }
+    // Deleted elements: a dangling triangle and interleaved junk vertices deleted without
+    // garbage collection, plus one isolated live vertex.
+    TriMeshD om;
+    om.request_vertex_status();
+    om.request_edge_status();
+    om.request_halfedge_status();
+    om.request_face_status();
+    std::vector<OpenMesh::VertexHandle> real, junk;
+    for (std::size_t i = 0; i < src.V.size(); ++i) {
+      if (i % 5 == 2) junk.push_back(om.add_vertex(TriMeshD::Point(9, 9, 9)));
+      real.push_back(om.add_vertex(TriMeshD::Point(src.V[i][0], src.V[i][1], src.V[i][2])));
+    }
+    for (const auto& f : src.F) om.add_face(real[f[0]], real[f[1]], real[f[2]]);
+    const auto a = om.add_vertex(TriMeshD::Point(5, 0, 0)), b = om.add_vertex(TriMeshD::Point(5, 1, 0)),
+               c = om.add_vertex(TriMeshD::Point(5, 0, 1));
+    om.add_face(a, b, c);
+    const auto isolated = om.add_vertex(TriMeshD::Point(7, 7, 7));
+    om.delete_vertex(a, true);  // deletes the dangling face and its now-isolated vertices
+    for (auto v : junk) om.delete_vertex(v, true);
+    const auto conv = dualspectra::openmesh::to_mesh(om);
+    T.check(conv.mesh.vertices() == src.V && conv.mesh.faces() == src.F,
+            "deleted elements skipped, isolated vertex left out: same mesh as the source (" +
+                std::to_string(conv.mesh.n_vertices()) + " of " + std::to_string(om.n_vertices()) + " handles)");
+    bool map_ok = conv.index(isolated) == conv.none && conv.index(b) == conv.none;
+    for (std::size_t i = 0; i < real.size(); ++i) map_ok = map_ok && conv.vertex_of[i] == real[i] && conv.index(real[i]) == i;
+    T.check(map_ok, "vertex_of / index_of correspondence");
+    T.check(dualspectra::gaussian_curvature(conv.mesh) == K_ref, "curvature through the adapter identical to direct construction");
+
+    // Write-back (a Localization filled by hand: this checks the index mapping only).
+    dualspectra::Localization r;
+    r.region.resize(conv.mesh.n_vertices());
+    r.score.resize(conv.mesh.n_vertices());
+    for (std::size_t i = 0; i < r.region.size(); ++i) {
+      r.region[i] = i % 4 == 1;
+      r.score[i] = 1.0 / static_cast<double>(i + 1);
+    }
+    TriMeshD plain = to_openmesh<TriMeshD>(src);  // no status: write_region requests it
+    const auto conv_plain = dualspectra::openmesh::to_mesh(plain);
+    auto h = dualspectra::openmesh::write_region(plain, conv_plain, r);
+    auto hs = dualspectra::openmesh::write_score(plain, conv_plain, r);
+    bool wb = plain.has_vertex_status();
+    for (std::size_t i = 0; i < r.region.size(); ++i) {
+      const OpenMesh::VertexHandle vh(static_cast<int>(i));
+      wb = wb && plain.property(h, vh) == r.region[i] && plain.status(vh).selected() == r.region[i] &&
+           plain.property(hs, vh) == r.score[i];
+    }
+    OpenMesh::VPropHandleT<bool> found;
+    T.check(wb && plain.get_property_handle(found, "v:dualspectra_region"),
+            "region as property \"v:dualspectra_region\" and selected flags, score as \"v:dualspectra_score\"");
+    auto h2 = dualspectra::openmesh::write_region(om, conv, r, "v:dualspectra_region", true);
+    bool wb2 = !om.property(h2, isolated) && !om.status(isolated).selected();
+    for (std::size_t i = 0; i < real.size(); ++i) wb2 = wb2 && om.status(real[i]).selected() == r.region[i];
+    T.check(wb2, "write-back through index holes; isolated vertex unselected");
+    r.region.pop_back();
+    try {
+      dualspectra::openmesh::write_region(om, conv, r);
+      T.check(false, "size mismatch throws");
+    } catch (const dualspectra::Error& e) {
+      T.check(e.status() == dualspectra::Status::InvalidArgument, std::string("size mismatch throws InvalidArgument: ") + e.what());
+    }
+    PolyMesh quad;
+    std::vector<PolyMesh::VertexHandle> q{quad.add_vertex(PolyMesh::Point(0, 0, 0)), quad.add_vertex(PolyMesh::Point(1, 0, 0)),
+                                          quad.add_vertex(PolyMesh::Point(1, 1, 0)), quad.add_vertex(PolyMesh::Point(0, 1, 0))};
+    quad.add_face(q);
+    try {
+      dualspectra::openmesh::to_mesh(quad);
+      T.check(false, "quad face throws");
+    } catch (const dualspectra::Error& e) {
+      T.check(e.status() == dualspectra::Status::InvalidMesh, std::string("PolyMesh quad face throws InvalidMesh: ") + e.what());
+    }
+  } catch (const std::exception& e) {
+    T.check(false, std::string("unexpected exception: ") + e.what());
+  }
+  std::printf("\n%d failure(s)\n", T.failures);
+  return T.failures == 0 ? 0 : 1;
+}
