@@ -73,6 +73,7 @@ int main(int argc, char** argv) {
     if (example::ends_with(args.output, ".ply")) {
       std::ofstream os(args.output);
       CGAL::IO::set_ascii_mode(os);
+      os.precision(17);  // lossless doubles
       ok = CGAL::IO::write_PLY(os, full_sm) && static_cast<bool>(os);  // writes v:color and the double score map
     } else {
       ok = CGAL::IO::write_polygon_mesh(args.output, full_sm,
