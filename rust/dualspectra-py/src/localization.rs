@@ -154,6 +154,7 @@ pub fn localize(
         max_iterations: max_iterations.unwrap_or(defaults.max_iterations),
         threads: threads.unwrap_or(defaults.threads),
         selection,
+        ..defaults
     };
     let (handle, raised) = python_progress(progress);
     let result = py.detach(|| dualspectra::localize(&full, &partial, &options, &handle));

@@ -2,11 +2,12 @@
 //! the user-facing benchmark is `dualspectra bench`).
 //!
 //! `cargo run --release --example 401_localize_shrec -- DATASET [STRIDE] [OFFSET]`
-//! Options from the environment: DS_MODE, DS_K, DS_RES, DS_CENTERS, DS_ITERS, DS_SELECTION.
+//! Options from the environment: DS_MODE, DS_K, DS_RES, DS_CENTERS, DS_ITERS, DS_FINALISTS,
+//! DS_SELECTION; DS_VERBOSE lists every start (`*`: finalist).
 
 use dualspectra::evaluation::datasets::Shrec16;
 use dualspectra::evaluation::metrics::{scores, symmetry_aware};
-use dualspectra::{localize, Options, Progress, Selection};
+use dualspectra::{localize_with_initial_regions, Options, Progress, Selection};
 
 fn env<T: std::str::FromStr>(k: &str, d: T) -> T {
     std::env::var(k).ok().and_then(|v| v.parse().ok()).unwrap_or(d)
@@ -23,6 +24,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     o.resolution = env("DS_RES", o.resolution);
     o.centers = env("DS_CENTERS", o.centers);
     o.max_iterations = env("DS_ITERS", o.max_iterations);
+    o.finalists = env("DS_FINALISTS", o.finalists);
+    o.descriptor_start = env("DS_DESC_START", 1) != 0;
     if env("DS_SELECTION", "descriptors".to_string()) == "cost" {
         o.selection = Selection::Cost;
     }
@@ -32,7 +35,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for pair in pairs.iter().skip(offset).step_by(stride) {
         let p = pair.load()?;
         let t = std::time::Instant::now();
-        let res = localize(&p.full, &p.partial, &o, &Progress::none())?;
+        // DS_GT_START=1: also start from the ground truth (is the cost minimal there?).
+        let given = if std::env::var("DS_GT_START").is_ok() { vec![p.gt.clone()] } else { vec![] };
+        let res = localize_with_initial_regions(&p.full, &p.partial, &o, &given, &Progress::none())?;
         let secs = t.elapsed().as_secs_f64();
         let sym = p.gt_sym.clone().unwrap_or_else(|| p.gt.clone());
         let iou = |r: &[bool]| symmetry_aware(r, &p.gt, &sym, None).map(|(s, _)| s.iou).unwrap_or(0.0);
@@ -51,8 +56,27 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             res.candidates.iter().map(|c| c.evaluations as f64).sum::<f64>() / res.candidates.len() as f64
         );
         if std::env::var("DS_VERBOSE").is_ok() {
+            let rel = |l: &[f64], m: &[f64]| -> Vec<String> {
+                l.iter().zip(m).map(|(a, b)| format!("{:+.2}", (a - b) / b)).collect()
+            };
+            let term = |l: &[f64], m: &[f64]| l.iter().zip(m).map(|(a, b)| ((a - b) / b).powi(2)).sum::<f64>();
+            println!(
+                "    selected: regular cost {:.3e} SI cost {:.3e}\n    reg rel err {}\n    SI  rel err {}",
+                term(&res.eigenvalues_regular, &res.target_regular),
+                term(&res.eigenvalues_si, &res.target_si),
+                rel(&res.eigenvalues_regular, &res.target_regular).join(" "),
+                rel(&res.eigenvalues_si, &res.target_si).join(" ")
+            );
             for (c, i) in res.candidates.iter().zip(&per_start) {
-                println!("    {:<20} cost {:10.3e} sel {:10.4e} iou {:.3} it {}", c.label, c.cost, c.selection_score, i, c.iterations);
+                println!(
+                    "  {} {:<20} cost {:10.3e} sel {:10.4e} iou {:.3} it {}",
+                    if c.finalist { '*' } else { ' ' },
+                    c.label,
+                    c.cost,
+                    c.selection_score,
+                    i,
+                    c.iterations
+                );
             }
         }
         sum_iou += chosen.iou;

@@ -2,8 +2,9 @@
 //! target spectra of the partial, starts, trust-region optimisation of every start (in
 //! parallel), choice among the starts, region on the full shape.
 
+use crate::alignment::descriptor_start::descriptor_baseline_mask;
 use crate::alignment::cost::{potential_from_w, AlignmentCost, SpectrumTerm};
-use crate::alignment::starts::{farthest_point_samples, gaussian_starts, Start};
+use crate::alignment::starts::{farthest_point_samples, gaussian_starts, mask_start, Start};
 use crate::alignment::trust_region::{minimize, TrustRegionParams};
 use crate::error::{Error, Result};
 use crate::localize::internal::{check_options, largest_component};
@@ -26,7 +27,13 @@ fn optimisation_mesh(full: &TriMesh, target: usize) -> Result<(TriMesh, Vec<u32>
     Ok((d.mesh, d.original_vertex))
 }
 
-pub(crate) fn run(full: &TriMesh, partial: &TriMesh, options: &Options, progress: &Progress) -> Result<Localization> {
+pub(crate) fn run(
+    full: &TriMesh,
+    partial: &TriMesh,
+    options: &Options,
+    initial_regions: &[Vec<bool>],
+    progress: &Progress,
+) -> Result<Localization> {
     let t_start = Instant::now();
     check_options(options)?;
     let mut warnings = Vec::new();
@@ -72,7 +79,7 @@ pub(crate) fn run(full: &TriMesh, partial: &TriMesh, options: &Options, progress
     } else {
         None
     };
-    let (opt_mesh, _opt_to_full) = if let Some(d) = decimated {
+    let (opt_mesh, opt_to_full) = if let Some(d) = decimated {
         d
     } else {
         let n = full_n.n_vertices() as u32;
@@ -109,37 +116,61 @@ pub(crate) fn run(full: &TriMesh, partial: &TriMesh, options: &Options, progress
     let pts = opt_shape.mesh().vertices();
     let centres = farthest_point_samples(pts, options.centers, options.seed);
     let sigma = partial_area.sqrt();
-    let starts: Vec<Start> = gaussian_starts(pts, &centres, &[sigma, 2.0 * sigma]);
+    let mut starts: Vec<Start> = gaussian_starts(pts, &centres, &[sigma, 2.0 * sigma]);
+    // Protected starts (never pruned) first: given regions (on the full shape, read at the
+    // vertex each decimated vertex came from), then the descriptor baseline.
+    let mut protected: Vec<Start> = initial_regions
+        .iter()
+        .enumerate()
+        .map(|(i, r)| mask_start(&opt_to_full.iter().map(|&j| r[j as usize]).collect::<Vec<_>>(), &format!("given#{i}")))
+        .collect();
+    // SHOT of both shapes (radius relative to the unit-area full shape), for the descriptor
+    // start and the selection.
+    let radius = crate::alignment::shot::DEFAULT_RADIUS_FRACTION;
+    let min_nb = crate::alignment::shot::DEFAULT_MIN_NEIGHBORS;
+    let shot = if options.descriptor_start || options.selection == Selection::Descriptors {
+        Some((
+            crate::alignment::shot::shot_descriptors(opt_shape.mesh(), radius, min_nb)?,
+            crate::alignment::shot::shot_descriptors(part_shape.mesh(), radius, min_nb)?,
+        ))
+    } else {
+        None
+    };
+    if let (true, Some((d_full, d_part))) = (options.descriptor_start, &shot) {
+        let r0 = descriptor_baseline_mask(d_full, d_part, opt_shape.mass(), partial_area)?;
+        let neighbors = crate::mesh::topology::vertex_neighbors(opt_shape.mesh());
+        let r0 = crate::region::closing::close(&r0, &neighbors, crate::region::CLOSING_RINGS)?;
+        protected.push(mask_start(&r0, "descriptors"));
+    }
+    let n_given = protected.len();
+    protected.append(&mut starts);
+    let starts = protected;
     let t_starts = t0.elapsed().as_secs_f64();
     if starts.is_empty() {
         return Err(Error::InvalidArgument("no starts (centers = 0)".into()));
     }
 
-    // --- Optimise every start in parallel; progress is reported from this thread only.
+    // --- Optimise the starts in parallel, by successive halving; progress is reported from
+    // this thread only.
     let t0 = Instant::now();
+    let rounds = halving_rounds(options.max_iterations, options.finalists);
     let iterations_done = AtomicUsize::new(0);
-    let total_iterations = starts.len() * options.max_iterations;
+    let total_iterations = halving_total(&starts, n_given, &rounds, options.finalists);
     let worker_progress = Progress::none().with_cancel_flag(progress.cancel_flag());
-    let tr = TrustRegionParams { max_iterations: options.max_iterations, ..TrustRegionParams::default() };
     let outcomes: Vec<Result<StartOutcome>> = std::thread::scope(|scope| {
         let handle = scope.spawn(|| {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(options.threads)
                 .build()
                 .map_err(|e| Error::Numerical(format!("thread pool: {e}")))?;
-            let out = pool.install(|| {
-                use rayon::prelude::*;
-                starts
-                    .par_iter()
-                    .map(|s| optimise_start(&opt_shape, &terms, s, &tr, &worker_progress, &iterations_done))
-                    .collect::<Vec<_>>()
-            });
-            Ok::<_, Error>(out)
+            pool.install(|| {
+                optimise_starts(&opt_shape, &terms, &starts, n_given, &rounds, options.finalists, &worker_progress, &iterations_done)
+            })
         });
         while !handle.is_finished() {
             std::thread::sleep(std::time::Duration::from_millis(50));
             let done = iterations_done.load(Ordering::Relaxed) as f64 / total_iterations.max(1) as f64;
-            if progress.report(0.05 + 0.85 * done, "optimising").is_err() {
+            if progress.report(0.05 + 0.85 * done.min(1.0), "optimising").is_err() {
                 worker_progress.cancel();
             }
         }
@@ -189,19 +220,38 @@ pub(crate) fn run(full: &TriMesh, partial: &TriMesh, options: &Options, progress
     // --- Choice among the starts: descriptors projected on eigenfunctions (lowest score).
     let t0 = Instant::now();
     progress.report(0.93, "selecting")?;
-    let selection = if options.selection == Selection::Descriptors {
-        let radius = crate::alignment::shot::DEFAULT_RADIUS_FRACTION; // full shape has unit area
-        let d_full = crate::alignment::shot::shot_descriptors(opt_shape.mesh(), radius, crate::alignment::shot::DEFAULT_MIN_NEIGHBORS)?;
-        let d_part = crate::alignment::shot::shot_descriptors(part_shape.mesh(), radius, crate::alignment::shot::DEFAULT_MIN_NEIGHBORS)?;
+    let selection = if let (Selection::Descriptors, Some((d_full, d_part))) = (options.selection, &shot) {
         let metrics: Vec<Metric> = terms.iter().map(|t| t.metric).collect();
         let heights: Vec<f64> = terms.iter().map(|t| 2.0 * t.height).collect();
-        let targets = crate::alignment::selection::partial_signatures(&part_shape, &d_part, &metrics)?;
-        crate::alignment::selection::selection_scores(&opt_shape, &d_full, &metrics, &targets, &heights, &opt_regions)?
+        let targets = crate::alignment::selection::partial_signatures(&part_shape, d_part, &metrics)?;
+        let finalist_regions: Vec<Vec<bool>> =
+            ok.iter().zip(&opt_regions).filter(|(o, _)| o.finalist).map(|(_, r)| r.clone()).collect();
+        let scores = crate::alignment::selection::selection_scores(
+            &opt_shape,
+            d_full,
+            &metrics,
+            &targets,
+            &heights,
+            &finalist_regions,
+        )?;
+        let mut scores = scores.into_iter();
+        ok.iter().map(|o| if o.finalist { scores.next().unwrap_or(f64::NAN) } else { f64::NAN }).collect()
     } else {
         vec![f64::NAN; ok.len()]
     };
     let key = |i: usize| if options.selection == Selection::Descriptors { selection[i] } else { ok[i].cost };
-    let selected = (0..ok.len()).min_by(|&a, &b| key(a).total_cmp(&key(b)).then(a.cmp(&b))).unwrap_or(0);
+    // Only finalists are chosen from (every start is a finalist without pruning); a start that
+    // failed in the last round leaves its round's survivors to choose from.
+    let pool: Vec<usize> = if ok.iter().any(|o| o.finalist) {
+        (0..ok.len()).filter(|&i| ok[i].finalist).collect()
+    } else {
+        (0..ok.len()).collect()
+    };
+    let selected = pool
+        .iter()
+        .copied()
+        .min_by(|&a, &b| key(a).total_cmp(&key(b)).then(a.cmp(&b)))
+        .unwrap_or(0);
     let t_sel = t0.elapsed().as_secs_f64();
     progress.report(0.98, "finishing")?;
 
@@ -221,6 +271,7 @@ pub(crate) fn run(full: &TriMesh, partial: &TriMesh, options: &Options, progress
             selection_score: sc,
             iterations: o.iterations,
             evaluations: o.evaluations,
+            finalist: o.finalist,
             region: r,
         })
         .collect();
@@ -253,21 +304,133 @@ pub(crate) fn run(full: &TriMesh, partial: &TriMesh, options: &Options, progress
     })
 }
 
-fn optimise_start(
+/// Iterations of each round of the successive halving: rounds end at 1/8, 1/4, 1/2 and all of
+/// `max_iterations` (Jamieson & Talwalkar 2016, "successive halving"). `finalists == 0` or too
+/// few iterations: one round.
+fn halving_rounds(max_iterations: usize, finalists: usize) -> Vec<usize> {
+    if finalists == 0 || max_iterations < 8 {
+        return vec![max_iterations];
+    }
+    let ends = [max_iterations / 8, max_iterations / 4, max_iterations / 2, max_iterations];
+    ends.iter().scan(0, |done, &end| {
+        let r = end - *done;
+        *done = end;
+        Some(r)
+    })
+    .collect()
+}
+
+/// Survivors of a round in a family of `alive` starts: the better half, but never fewer than
+/// `keep_min` (nor more than are alive).
+fn survivors(alive: usize, keep_min: usize) -> usize {
+    alive.div_ceil(2).max(keep_min).min(alive)
+}
+
+/// A start being optimised: its cost (with warm eigensolvers) and where it is.
+struct Run<'a> {
+    label: String,
+    cost: AlignmentCost<'a>,
+    w: Vec<f64>,
+    fx: f64,
+    iterations: usize,
+    delta: Option<f64>,
+    alive: bool,
+    failed: Option<Error>,
+}
+
+/// Run the `rounds` over all `starts` (each round in parallel), then the per-start outcome.
+/// After each round, each family of starts keeps its better half (by cost, ties by index),
+/// at least `finalists` in all; the first `protected` starts are never pruned. Deterministic.
+fn optimise_starts(
     shape: &Shape,
     terms: &[SpectrumTerm],
-    start: &Start,
-    params: &TrustRegionParams,
+    starts: &[Start],
+    protected: usize,
+    rounds: &[usize],
+    finalists: usize,
     progress: &Progress,
     iterations_done: &AtomicUsize,
-) -> Result<StartOutcome> {
+) -> Result<Vec<Result<StartOutcome>>> {
+    use rayon::prelude::*;
+    let mut runs: Vec<Run> = starts
+        .iter()
+        .map(|s| {
+            Ok(Run {
+                label: s.label.clone(),
+                cost: AlignmentCost::new(shape, terms.to_vec())?,
+                w: s.w0.clone(),
+                fx: f64::INFINITY,
+                iterations: 0,
+                delta: None,
+                alive: true,
+                failed: None,
+            })
+        })
+        .collect::<Result<_>>()?;
+    let families = families(&starts[protected..]);
+    let keep_min = finalists.div_ceil(families.len().max(1));
+    for (r, &iterations) in rounds.iter().enumerate() {
+        if r > 0 {
+            for family in &families {
+                let mut alive: Vec<usize> =
+                    (protected..runs.len()).filter(|&i| runs[i].alive && starts[i].family == *family).collect();
+                alive.sort_by(|&a, &b| runs[a].fx.total_cmp(&runs[b].fx).then(a.cmp(&b)));
+                for &i in alive.iter().skip(survivors(alive.len(), keep_min)) {
+                    runs[i].alive = false;
+                }
+            }
+        }
+        runs.par_iter_mut().filter(|run| run.alive).for_each(|run| {
+            if let Err(e) = advance(run, iterations, progress, iterations_done) {
+                run.alive = false;
+                run.fx = f64::INFINITY;
+                run.failed = Some(e);
+            }
+        });
+        progress.check()?;
+    }
+    let outcomes = runs.into_par_iter().map(|run| finish_run(shape, run)).collect();
+    Ok(outcomes)
+}
+
+/// The distinct families of `starts`, in order of appearance.
+fn families(starts: &[Start]) -> Vec<&'static str> {
+    let mut out: Vec<&'static str> = Vec::new();
+    for s in starts {
+        if !out.contains(&s.family) {
+            out.push(s.family);
+        }
+    }
+    out
+}
+
+/// Total iterations the halving runs (for the progress bar; exact unless a start fails or
+/// converges early, which is credited as if it ran).
+fn halving_total(starts: &[Start], protected: usize, rounds: &[usize], finalists: usize) -> usize {
+    let fams = families(&starts[protected..]);
+    let keep_min = finalists.div_ceil(fams.len().max(1));
+    let mut alive: Vec<usize> =
+        fams.iter().map(|f| starts[protected..].iter().filter(|s| s.family == *f).count()).collect();
+    let mut total = 0;
+    for (r, &it) in rounds.iter().enumerate() {
+        if r > 0 {
+            alive.iter_mut().for_each(|a| *a = survivors(*a, keep_min));
+        }
+        total += (protected + alive.iter().sum::<usize>()) * it;
+    }
+    total
+}
+
+/// `iterations` more trust-region iterations of `run`, resuming with its trust radius.
+fn advance(run: &mut Run, iterations: usize, progress: &Progress, iterations_done: &AtomicUsize) -> Result<()> {
     progress.check()?;
-    let mut cost = AlignmentCost::new(shape, terms.to_vec())?;
+    let params = TrustRegionParams { max_iterations: iterations, initial_delta: run.delta, ..TrustRegionParams::default() };
+    let cost = &mut run.cost;
     let mut last_iter = 0;
     let (w, info) = minimize(
         |w| cost.evaluate(w).map(|e| (e.cost, e.gradient)),
-        start.w0.clone(),
-        params,
+        std::mem::take(&mut run.w),
+        &params,
         |iter, _| {
             iterations_done.fetch_add(1, Ordering::Relaxed);
             last_iter = iter + 1;
@@ -275,9 +438,21 @@ fn optimise_start(
             Ok(true)
         },
     )?;
-    // Credit skipped iterations so the progress bar reaches the end.
-    iterations_done.fetch_add(params.max_iterations.saturating_sub(last_iter), Ordering::Relaxed);
-    let ev = cost.evaluate(&w)?;
+    // Credit skipped iterations (converged early) so the progress bar reaches the end.
+    iterations_done.fetch_add(iterations.saturating_sub(last_iter), Ordering::Relaxed);
+    run.w = w;
+    run.fx = info.cost;
+    run.iterations += info.iterations;
+    run.delta = Some(info.delta);
+    Ok(())
+}
+
+/// The outcome of a run: eigenvalues and eigenvector energy at its final `w`.
+fn finish_run(shape: &Shape, mut run: Run) -> Result<StartOutcome> {
+    if let Some(e) = run.failed {
+        return Err(e);
+    }
+    let ev = run.cost.evaluate(&run.w)?;
     let dir = shape.dirichlet();
     // Energy of all matched eigenfunctions (every term), per vertex of the shape.
     let mut energy = vec![0.0; shape.n_vertices()];
@@ -288,12 +463,33 @@ fn optimise_start(
         }
     }
     Ok(StartOutcome {
-        label: start.label.clone(),
-        w,
+        label: run.label,
+        w: run.w,
         cost: ev.cost,
-        iterations: info.iterations,
-        evaluations: cost.evaluations,
+        iterations: run.iterations,
+        evaluations: run.cost.evaluations,
+        finalist: run.alive,
         eigenvalues: ev.spectra.iter().map(|s| s.values.clone()).collect(),
         energy,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn halving_rounds_and_survivors() {
+        assert_eq!(halving_rounds(100, 4), vec![12, 13, 25, 50]);
+        assert_eq!(halving_rounds(100, 0), vec![100]);
+        assert_eq!(halving_rounds(5, 4), vec![5]);
+        assert_eq!((survivors(20, 2), survivors(3, 2), survivors(2, 2), survivors(1, 2)), (10, 2, 2, 1));
+        // 40 Gaussian starts (20 wells, 20 bumps), 4 finalists: 40, 20, 10, 6 (3 + 3) run.
+        let pts = vec![[0.0, 0.0, 0.0]; 3];
+        let starts = crate::alignment::starts::gaussian_starts(&pts, &[0, 1, 2, 0, 1, 2, 0, 1, 2, 0], &[1.0, 2.0]);
+        assert_eq!(starts.len(), 40);
+        assert_eq!(halving_total(&starts, 0, &[1, 1, 1, 1], 4), 40 + 20 + 10 + 6);
+        // One protected start always runs; the other 39 (20 bumps, 19 wells) are halved.
+        assert_eq!(halving_total(&starts, 1, &[1, 1, 1, 1], 4), 40 + 21 + 11 + 7);
+    }
 }

@@ -138,3 +138,32 @@ fn progress_is_reported_and_cancel_stops() {
     let e = localize(&full, &part, &quick(), &p).unwrap_err();
     assert!(matches!(e, Error::Cancelled));
 }
+
+/// Successive halving: of 16 Gaussian starts, `finalists` run to the end and only they are
+/// selected from; a given region is never pruned, and starting from the truth keeps it.
+#[test]
+fn halving_keeps_finalists_and_given_regions() {
+    let full = bumpy_sphere(3);
+    let (part, truth) = cut(&full, |p| p[0] + 0.3 * p[1] > 0.2);
+    let o = Options { finalists: 4, ..quick() };
+    let res = dualspectra::localize_with_initial_regions(&full, &part, &o, &[truth.clone()], &Progress::none()).unwrap();
+    assert_eq!(res.candidates.len(), 17);
+    let given = &res.candidates[0];
+    assert_eq!(given.label, "given#0");
+    assert!(given.finalist && given.iterations > 0);
+    assert!(iou(&given.region, &truth) > 0.9, "IoU from the truth {}", iou(&given.region, &truth));
+    let finalists: Vec<_> = res.candidates.iter().filter(|c| c.finalist).collect();
+    assert_eq!(finalists.len(), 5, "2 wells + 2 bumps + the given region");
+    assert!(res.candidates[res.selected_start].finalist);
+    // Pruned starts stopped early; finalists ran longer.
+    let max_pruned = res.candidates.iter().filter(|c| !c.finalist).map(|c| c.iterations).max().unwrap();
+    assert!(max_pruned < o.max_iterations / 2 + 1, "pruned ran {max_pruned}");
+    // Survivors of a round had the lowest costs of that round: every finalist's cost is
+    // below the worst pruned one.
+    let worst_pruned = res.candidates.iter().filter(|c| !c.finalist).map(|c| c.cost).fold(0.0, f64::max);
+    assert!(finalists.iter().all(|c| c.cost <= worst_pruned));
+
+    // A mask of the wrong length is a clear error.
+    let err = dualspectra::localize_with_initial_regions(&full, &part, &o, &[vec![true; 3]], &Progress::none());
+    assert!(matches!(err, Err(Error::InvalidArgument(_))), "{err:?}");
+}

@@ -6,3 +6,4 @@ pub mod trust_region;
 pub mod starts;
 pub mod selection;
 pub mod shot;
+pub mod descriptor_start;

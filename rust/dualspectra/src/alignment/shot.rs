@@ -3,7 +3,7 @@
 //! surface and texture description", CVIU 125).
 //!
 //! Used twice by the pipeline (ALGORITHM.md): to build the descriptor start (k-means of
-//! the SHOT of both shapes, `alignment::kmeans::descriptor_baseline_mask`) and to score
+//! the SHOT of both shapes, `alignment::descriptor_start::descriptor_baseline_mask`) and to score
 //! the candidate regions ("Choosing among the starts").
 //!
 //! # Definition

@@ -17,6 +17,9 @@ pub const START_AMPLITUDE: f64 = 4.0;
 pub struct Start {
     pub w0: Vec<f64>,
     pub label: String,
+    /// Kind of start ("well", "bump", "mask"): starts of one kind begin at comparable costs,
+    /// so the successive halving ranks each kind separately.
+    pub family: &'static str,
 }
 
 /// SplitMix64: a tiny deterministic generator for seeded choices (no global RNG).
@@ -60,8 +63,8 @@ pub fn gaussian_starts(points: &[[f64; 3]], centres: &[usize], sigmas: &[f64]) -
             let g: Vec<f64> =
                 points.iter().map(|&p| 1.0 - (-dist2(p, points[c]) / (2.0 * sigma * sigma)).exp()).collect();
             let a = START_AMPLITUDE;
-            out.push(Start { w0: g.iter().map(|x| a * (x - 0.5)).collect(), label: format!("well@{c}/sigma{si}") });
-            out.push(Start { w0: g.iter().map(|x| a * (0.5 - x)).collect(), label: format!("bump@{c}/sigma{si}") });
+            out.push(Start { w0: g.iter().map(|x| a * (x - 0.5)).collect(), label: format!("well@{c}/sigma{si}"), family: "well" });
+            out.push(Start { w0: g.iter().map(|x| a * (0.5 - x)).collect(), label: format!("bump@{c}/sigma{si}"), family: "bump" });
         }
     }
     out
@@ -69,7 +72,7 @@ pub fn gaussian_starts(points: &[[f64; 3]], centres: &[usize], sigmas: &[f64]) -
 
 /// The descriptor baseline start: $w_0 = 2 - 4 R_0$ (low potential on the mask).
 pub fn mask_start(mask: &[bool], label: &str) -> Start {
-    Start { w0: mask.iter().map(|&m| if m { -2.0 } else { 2.0 }).collect(), label: label.to_string() }
+    Start { w0: mask.iter().map(|&m| if m { -2.0 } else { 2.0 }).collect(), label: label.to_string(), family: "mask" }
 }
 
 #[cfg(test)]

@@ -27,6 +27,9 @@ pub struct TrustRegionParams {
     pub rho_prime: f64,
     /// Largest trust radius $\bar\Delta$ (default $\sqrt n$) and the initial one ($\bar\Delta / 8$).
     pub delta_bar: Option<f64>,
+    /// Initial trust radius (default $\bar\Delta / 8$); a resumed run passes the radius it
+    /// stopped with ([`TrustRegionInfo::delta`]).
+    pub initial_delta: Option<f64>,
     pub fd_step: f64,
 }
 
@@ -42,6 +45,7 @@ impl Default for TrustRegionParams {
             theta: 1.0,
             rho_prime: 0.1,
             delta_bar: None,
+            initial_delta: None,
             fd_step: 2f64.powi(-14),
         }
     }
@@ -57,6 +61,8 @@ pub struct TrustRegionInfo {
     /// Cost after each outer iteration.
     pub history: Vec<f64>,
     pub stop_reason: &'static str,
+    /// Trust radius at the end (to resume the run).
+    pub delta: f64,
 }
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
@@ -76,7 +82,7 @@ pub fn minimize(
 ) -> Result<(Vec<f64>, TrustRegionInfo)> {
     let n = x0.len();
     let delta_bar = params.delta_bar.unwrap_or((n as f64).sqrt());
-    let mut delta = delta_bar / 8.0;
+    let mut delta = params.initial_delta.unwrap_or(delta_bar / 8.0).min(delta_bar);
     let mut x = x0;
     let (mut fx, mut gx) = f(&x)?;
     let mut info = TrustRegionInfo { evaluations: 1, ..Default::default() };
@@ -181,6 +187,7 @@ pub fn minimize(
         }
     }
     info.cost = fx;
+    info.delta = delta;
     info.gradient_norm = dot(&gx, &gx).sqrt();
     Ok((x, info))
 }
