@@ -24,7 +24,7 @@ inline const char* usage_text() {
          "  OUTPUT: the full mesh with the region as vertex colours (red = region) and the score\n"
          "options (defaults: the paper's settings):\n"
          "  --mode dual|lbo|si   --k N   --alpha A   --seed N   --resolution N (0: no decimation)\n"
-         "  --centers N   --iterations N   --threads N (0: all cores)   --selection descriptors|cost\n"
+         "  --centers N   --iterations N   --threads N (0: all cores)   --selection gated|region|descriptors|cost\n"
          "  --indices FILE   also write the region's vertex indices (0-based, file order), one a line\n"
          "  --quiet          no progress on stderr\n";
 }
@@ -58,9 +58,11 @@ inline Args parse(int argc, char** argv) {
       else throw std::invalid_argument("--mode expects dual, lbo or si, got '" + m + "'");
     } else if (arg == "--selection") {
       const std::string m = value();
-      if (m == "descriptors") a.options.selection = dualspectra::Selection::Descriptors;
+      if (m == "gated") a.options.selection = dualspectra::Selection::Gated;
+      else if (m == "region") a.options.selection = dualspectra::Selection::Region;
+      else if (m == "descriptors") a.options.selection = dualspectra::Selection::Descriptors;
       else if (m == "cost") a.options.selection = dualspectra::Selection::Cost;
-      else throw std::invalid_argument("--selection expects descriptors or cost, got '" + m + "'");
+      else throw std::invalid_argument("--selection expects gated, region, descriptors or cost, got '" + m + "'");
     } else if (arg == "--k") a.options.k = to_size(arg, value());
     else if (arg == "--alpha") a.options.alpha = std::stod(value());
     else if (arg == "--seed") a.options.seed = to_size(arg, value());

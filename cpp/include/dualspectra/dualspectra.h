@@ -56,7 +56,7 @@ typedef struct ds_options {
   size_t max_iterations;
   // Worker threads (0: all cores).
   size_t threads;
-  // One of `DS_SELECTION_DESCRIPTORS`, `DS_SELECTION_COST`.
+  // One of `DS_SELECTION_DESCRIPTORS`, `DS_SELECTION_COST`, `DS_SELECTION_REGION`, `DS_SELECTION_GATED`.
   ds_selection selection;
 } ds_options;
 
@@ -108,11 +108,18 @@ typedef struct ds_timings {
 // 2k scale-invariant eigenvalues only.
 #define DS_MODE_SI 2
 
-// SHOT descriptors projected on the first eigenfunctions (the paper's rule; the default).
+// SHOT descriptors projected on the first eigenfunctions (the paper's rule).
 #define DS_SELECTION_DESCRIPTORS 0
 
 // The lowest final alignment cost.
 #define DS_SELECTION_COST 1
+
+// The lowest alignment cost of the candidate's extracted region as a step potential.
+#define DS_SELECTION_REGION 2
+
+// The lowest descriptor score among the candidates whose region cost is at most 3x the
+// lowest (the default).
+#define DS_SELECTION_GATED 3
 
 // The surface's own metric (Laplace-Beltrami spectrum).
 #define DS_METRIC_REGULAR 0

@@ -51,10 +51,15 @@ pub const DS_MODE_SI: ds_mode = 2;
 
 /// How `ds_localize` chooses among its optimised starts (`ds_options.selection`).
 pub type ds_selection = u32;
-/// SHOT descriptors projected on the first eigenfunctions (the paper's rule; the default).
+/// SHOT descriptors projected on the first eigenfunctions (the paper's rule).
 pub const DS_SELECTION_DESCRIPTORS: ds_selection = 0;
 /// The lowest final alignment cost.
 pub const DS_SELECTION_COST: ds_selection = 1;
+/// The lowest alignment cost of the candidate's extracted region as a step potential.
+pub const DS_SELECTION_REGION: ds_selection = 2;
+/// The lowest descriptor score among the candidates whose region cost is at most 3x the
+/// lowest (the default).
+pub const DS_SELECTION_GATED: ds_selection = 3;
 
 /// Which metric a spectrum is computed in.
 pub type ds_metric = u32;
@@ -95,7 +100,7 @@ pub struct ds_options {
     pub max_iterations: usize,
     /// Worker threads (0: all cores).
     pub threads: usize,
-    /// One of `DS_SELECTION_DESCRIPTORS`, `DS_SELECTION_COST`.
+    /// One of `DS_SELECTION_DESCRIPTORS`, `DS_SELECTION_COST`, `DS_SELECTION_REGION`, `DS_SELECTION_GATED`.
     pub selection: ds_selection,
 }
 

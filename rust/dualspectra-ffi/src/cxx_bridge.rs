@@ -37,6 +37,11 @@ pub mod ffi {
         Descriptors = 0,
         /// The lowest final alignment cost.
         Cost = 1,
+        /// The lowest alignment cost of the candidate's extracted region as a step potential.
+        Region = 2,
+        /// The lowest descriptor score among the candidates whose region cost is at most 3x
+        /// the lowest (the default).
+        Gated = 3,
     }
 
     /// The metric of a spectrum.

@@ -91,7 +91,11 @@ pub(crate) fn selection_from_code(code: u32) -> Result<Selection, Error> {
     match code {
         c_abi::DS_SELECTION_DESCRIPTORS => Ok(Selection::Descriptors),
         c_abi::DS_SELECTION_COST => Ok(Selection::Cost),
-        _ => Err(Error::InvalidArgument(format!("unknown selection {code} (expected 0 = descriptors, 1 = cost)"))),
+        c_abi::DS_SELECTION_REGION => Ok(Selection::Region),
+        c_abi::DS_SELECTION_GATED => Ok(Selection::Gated),
+        _ => Err(Error::InvalidArgument(format!(
+            "unknown selection {code} (expected 0 = descriptors, 1 = cost, 2 = region, 3 = gated)"
+        ))),
     }
 }
 
@@ -99,6 +103,8 @@ pub(crate) fn selection_code(selection: Selection) -> u32 {
     match selection {
         Selection::Descriptors => c_abi::DS_SELECTION_DESCRIPTORS,
         Selection::Cost => c_abi::DS_SELECTION_COST,
+        Selection::Region => c_abi::DS_SELECTION_REGION,
+        Selection::Gated => c_abi::DS_SELECTION_GATED,
     }
 }
 

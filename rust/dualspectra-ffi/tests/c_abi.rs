@@ -206,7 +206,7 @@ fn options_round_trip_and_are_checked() {
     let d = dualspectra::Options::default();
     assert_eq!((o.mode, o.k, o.alpha, o.seed), (DS_MODE_DUAL, d.k, d.alpha, d.seed));
     assert_eq!((o.resolution, o.centers, o.max_iterations, o.threads), (d.resolution, d.centers, d.max_iterations, d.threads));
-    assert_eq!(o.selection, DS_SELECTION_DESCRIPTORS);
+    assert_eq!(o.selection, DS_SELECTION_GATED);
     let full = create(&icosphere(2));
     let part = create(&disk(0.5, 4));
     let mut r = ptr::null_mut();

@@ -138,9 +138,11 @@ pub fn localize(
         None => defaults.selection,
         Some("descriptors") => Selection::Descriptors,
         Some("cost") => Selection::Cost,
+        Some("region") => Selection::Region,
+        Some("gated") => Selection::Gated,
         Some(other) => {
             return Err(pyo3::exceptions::PyValueError::new_err(format!(
-                "unknown selection '{other}' (expected descriptors or cost)"
+                "unknown selection '{other}' (expected gated, region, descriptors or cost)"
             )))
         }
     };

@@ -26,8 +26,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     o.max_iterations = env("DS_ITERS", o.max_iterations);
     o.finalists = env("DS_FINALISTS", o.finalists);
     o.descriptor_start = env("DS_DESC_START", 1) != 0;
-    if env("DS_SELECTION", "descriptors".to_string()) == "cost" {
-        o.selection = Selection::Cost;
+    match env("DS_SELECTION", String::new()).as_str() {
+        "cost" => o.selection = Selection::Cost,
+        "descriptors" => o.selection = Selection::Descriptors,
+        "region" => o.selection = Selection::Region,
+        "gated" => o.selection = Selection::Gated,
+        _ => {}
     }
     let data = Shrec16::open(root)?;
     let pairs = data.pairs()?;
@@ -69,11 +73,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             );
             for (c, i) in res.candidates.iter().zip(&per_start) {
                 println!(
-                    "  {} {:<20} cost {:10.3e} sel {:10.4e} iou {:.3} it {}",
+                    "  {} {:<20} cost {:10.3e} sel {:10.4e} rc {:10.3e} iou {:.3} it {}",
                     if c.finalist { '*' } else { ' ' },
                     c.label,
                     c.cost,
                     c.selection_score,
+                    c.region_cost,
                     i,
                     c.iterations
                 );

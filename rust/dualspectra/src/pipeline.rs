@@ -128,7 +128,7 @@ pub(crate) fn run(
     // start and the selection.
     let radius = crate::alignment::shot::DEFAULT_RADIUS_FRACTION;
     let min_nb = crate::alignment::shot::DEFAULT_MIN_NEIGHBORS;
-    let shot = if options.descriptor_start || options.selection == Selection::Descriptors {
+    let shot = if options.descriptor_start || options.selection != Selection::Cost {
         Some((
             crate::alignment::shot::shot_descriptors(opt_shape.mesh(), radius, min_nb)?,
             crate::alignment::shot::shot_descriptors(part_shape.mesh(), radius, min_nb)?,
@@ -220,26 +220,38 @@ pub(crate) fn run(
     // --- Choice among the starts: descriptors projected on eigenfunctions (lowest score).
     let t0 = Instant::now();
     progress.report(0.93, "selecting")?;
-    let selection = if let (Selection::Descriptors, Some((d_full, d_part))) = (options.selection, &shot) {
+    let uses_descriptors = options.selection != Selection::Cost;
+    let selection = if let (true, Some((d_full, d_part))) = (uses_descriptors, &shot) {
         let metrics: Vec<Metric> = terms.iter().map(|t| t.metric).collect();
         let heights: Vec<f64> = terms.iter().map(|t| 2.0 * t.height).collect();
         let targets = crate::alignment::selection::partial_signatures(&part_shape, d_part, &metrics)?;
         let finalist_regions: Vec<Vec<bool>> =
             ok.iter().zip(&opt_regions).filter(|(o, _)| o.finalist).map(|(_, r)| r.clone()).collect();
+        let target_values: Vec<Vec<f64>> = terms.iter().map(|t| t.target.clone()).collect();
         let scores = crate::alignment::selection::selection_scores(
             &opt_shape,
             d_full,
             &metrics,
             &targets,
+            &target_values,
             &heights,
             &finalist_regions,
         )?;
-        let mut scores = scores.into_iter();
-        ok.iter().map(|o| if o.finalist { scores.next().unwrap_or(f64::NAN) } else { f64::NAN }).collect()
+        let mut desc = scores.descriptors.into_iter();
+        let mut rc = scores.region_cost.into_iter();
+        ok.iter()
+            .map(|o| {
+                if o.finalist {
+                    (desc.next().unwrap_or(f64::NAN), rc.next().unwrap_or(f64::NAN))
+                } else {
+                    (f64::NAN, f64::NAN)
+                }
+            })
+            .collect()
     } else {
-        vec![f64::NAN; ok.len()]
+        vec![(f64::NAN, f64::NAN); ok.len()]
     };
-    let key = |i: usize| if options.selection == Selection::Descriptors { selection[i] } else { ok[i].cost };
+    let (selection, region_costs): (Vec<f64>, Vec<f64>) = selection.into_iter().unzip();
     // Only finalists are chosen from (every start is a finalist without pruning); a start that
     // failed in the last round leaves its round's survivors to choose from.
     let pool: Vec<usize> = if ok.iter().any(|o| o.finalist) {
@@ -247,11 +259,11 @@ pub(crate) fn run(
     } else {
         (0..ok.len()).collect()
     };
-    let selected = pool
-        .iter()
-        .copied()
-        .min_by(|&a, &b| key(a).total_cmp(&key(b)).then(a.cmp(&b)))
-        .unwrap_or(0);
+    let costs: Vec<f64> = ok.iter().map(|o| o.cost).collect();
+    let rule = if shot.is_some() { options.selection } else { Selection::Cost };
+    let n_eigenvalues: usize = terms.iter().map(|t| t.target.len()).sum();
+    let floor = n_eigenvalues as f64 * crate::localize::REGION_COST_FLOOR_RMS.powi(2);
+    let selected = crate::alignment::selection::choose(rule, &pool, &costs, &selection, &region_costs, floor);
     let t_sel = t0.elapsed().as_secs_f64();
     progress.report(0.98, "finishing")?;
 
@@ -264,11 +276,12 @@ pub(crate) fn run(
     let candidates = ok
         .iter()
         .zip(full_regions)
-        .zip(&selection)
-        .map(|((o, r), &sc)| Candidate {
+        .zip(selection.iter().zip(&region_costs))
+        .map(|((o, r), (&sc, &rc))| Candidate {
             label: o.label.clone(),
             cost: o.cost,
             selection_score: sc,
+            region_cost: rc,
             iterations: o.iterations,
             evaluations: o.evaluations,
             finalist: o.finalist,

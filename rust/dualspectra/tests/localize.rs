@@ -167,3 +167,4 @@ fn halving_keeps_finalists_and_given_regions() {
     let err = dualspectra::localize_with_initial_regions(&full, &part, &o, &[vec![true; 3]], &Progress::none());
     assert!(matches!(err, Err(Error::InvalidArgument(_))), "{err:?}");
 }
+

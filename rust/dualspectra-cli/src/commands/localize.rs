@@ -52,12 +52,21 @@ pub struct LocalizeOptions {
     /// Seed of every random choice (results are deterministic for a given seed).
     #[arg(long, value_name = "N", default_value_t = 0)]
     pub seed: u64,
-    /// Farthest-point centres of the Gaussian starts (4 starts each) [default: the library's, 10].
+    /// Farthest-point centres of the Gaussian starts (4 starts each) [default: the library's, 4; the paper used 10].
     #[arg(long, value_name = "N")]
     pub centers: Option<usize>,
     /// Trust-region iterations per start [default: the library's, 100].
     #[arg(long, value_name = "N")]
     pub iterations: Option<usize>,
+    /// Vertices of the decimated full shape the potential is optimised on; 0 = no decimation
+    /// [default: the library's].
+    #[arg(long, value_name = "N")]
+    pub resolution: Option<usize>,
+    /// Successive halving: keep this many starts (per kind) to the full iteration budget,
+    /// dropping the costliest at 1/8, 1/4, 1/2 of it; 0 = run every start fully
+    /// [default: the library's].
+    #[arg(long, value_name = "N")]
+    pub finalists: Option<usize>,
 }
 
 impl LocalizeOptions {
@@ -84,6 +93,12 @@ impl LocalizeOptions {
                 }
                 *field = v;
             }
+        }
+        if let Some(r) = self.resolution {
+            o.resolution = r;
+        }
+        if let Some(f) = self.finalists {
+            o.finalists = f;
         }
         if let Some(a) = self.alpha {
             if !a.is_finite() {

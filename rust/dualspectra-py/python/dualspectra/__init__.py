@@ -88,7 +88,7 @@ def localize(
     centers: Optional[int] = None,
     max_iterations: Optional[int] = None,
     threads: Optional[int] = None,
-    selection: Optional[Literal["descriptors", "cost"]] = None,
+    selection: Optional[Literal["gated", "region", "descriptors", "cost"]] = None,
     progress: Optional[ProgressCallback] = None,
 ) -> Localization:
     """Find the region of the full mesh that the partial mesh corresponds to.
@@ -102,12 +102,15 @@ def localize(
         alpha: exponent of the scale-invariant metric factor.
         seed: seed of every random choice (results are deterministic for a seed).
         resolution: vertices of the decimated full shape the potential is optimised on
-            (0: no decimation; default: the core's, 2500).
-        centers: farthest-point centres of the Gaussian starts (4 starts each; default 10).
+            (0: no decimation; default: the core's, 1000).
+        centers: farthest-point centres of the Gaussian starts (4 starts each; default 4, the paper used 10).
         max_iterations: trust-region iterations per start (default 100).
         threads: worker threads (0 or default: all cores).
-        selection: how the result is chosen among the starts: ``"descriptors"`` (SHOT
-            descriptors, the paper's rule; default) or ``"cost"`` (lowest cost).
+        selection: how the result is chosen among the starts: ``"gated"`` (default:
+            the best descriptor score among the starts whose extracted region's own spectra
+            are within 3x of the closest to the partial's), ``"region"`` (those spectra
+            closest), ``"descriptors"``
+            (SHOT descriptors, the paper's rule) or ``"cost"`` (lowest optimised cost).
         progress: optional ``callback(fraction, stage)``; returning ``False`` cancels.
 
     Returns:

@@ -7,6 +7,7 @@
 //! regular and (in the dual method) the scale-invariant metric; the lowest score wins.
 
 use crate::error::Result;
+use crate::localize::{Selection, REGION_COST_GATE};
 use crate::shape::{Metric, Shape};
 use crate::spectra::{EigenParams, HamiltonianSolver};
 use faer::Mat;
@@ -46,26 +47,44 @@ pub fn partial_signatures(partial: &Shape, desc: &Mat<f64>, metrics: &[Metric]) 
         .collect()
 }
 
-/// Score every candidate region on `full` (lower is better): $\sum_t \sum |c_M^t - c_N^t|$.
+/// Scores of the candidate regions (lower is better for both).
+#[derive(Debug, Clone)]
+pub struct RegionScores {
+    /// $\sum_t \sum |c_M^t - c_N^t|$ (descriptor projections).
+    pub descriptors: Vec<f64>,
+    /// The alignment cost of the region's own step potential $\tau(1 - R)$:
+    /// $\sum_t \sum_i (\lambda^t_i - \mu^t_i)^2 / (\mu^t_i)^2$ (how well the extracted
+    /// region, not the relaxed potential, matches the partial's spectra).
+    pub region_cost: Vec<f64>,
+}
+
+/// Score every candidate region on `full`: descriptor projections against `targets` (one
+/// `k_d x d` matrix per metric) and spectra against `target_values` (one per metric).
 pub fn selection_scores(
     full: &Shape,
     desc: &Mat<f64>,
     metrics: &[Metric],
     targets: &[Mat<f64>],
+    target_values: &[Vec<f64>],
     heights: &[f64],
     regions: &[Vec<bool>],
-) -> Result<Vec<f64>> {
+) -> Result<RegionScores> {
     let dir = full.dirichlet();
     let desc_free = restrict_rows(desc, &dir.free);
     let mut scores = vec![0.0; regions.len()];
-    for ((&m, target), &tau) in metrics.iter().zip(targets).zip(heights) {
+    let mut region_cost = vec![0.0; regions.len()];
+    for (((&m, target), mu), &tau) in metrics.iter().zip(targets).zip(target_values).zip(heights) {
         let mass = dir.restrict(full.metric_mass(m));
-        let params = EigenParams { k: target.nrows(), ..EigenParams::default() };
+        let k = target.nrows().max(mu.len()).min(dir.n_free().saturating_sub(1)).max(1);
+        // Scores compare eigenvalues to a few percent and eigenfunctions integrated against
+        // descriptors: a residual of 1e-6 is ample (eigenvalue error ~ residual^2).
+        let params = EigenParams { k, tol: 1e-6, ..EigenParams::default() };
         let mut solver = HamiltonianSolver::new(full.dirichlet_stiffness(), &mass, params)?;
-        for (r, score) in regions.iter().zip(scores.iter_mut()) {
+        for ((r, score), rc) in regions.iter().zip(scores.iter_mut()).zip(region_cost.iter_mut()) {
             let v: Vec<f64> = dir.free.iter().map(|&i| if r[i as usize] { 0.0 } else { tau }).collect();
             let s = solver.solve(&v)?;
-            let c = descriptor_projection(&s.vectors, &mass, &desc_free);
+            let first = s.vectors.subcols(0, target.nrows().min(s.vectors.ncols())).to_owned();
+            let c = descriptor_projection(&first, &mass, &desc_free);
             let mut diff = 0.0;
             for j in 0..c.nrows() {
                 for col in 0..c.ncols() {
@@ -73,11 +92,81 @@ pub fn selection_scores(
                 }
             }
             *score += diff;
+            *rc += s.values.iter().zip(mu).map(|(l, u)| ((l - u) / u).powi(2)).sum::<f64>();
         }
     }
-    Ok(scores)
+    Ok(RegionScores { descriptors: scores, region_cost })
+}
+
+/// The chosen candidate among `pool` (indices into the per-candidate arrays) by `rule`; ties
+/// go to the lower index, NaN scores rank last. `Gated`: the lowest descriptor score among
+/// the candidates of the pool whose region cost is at most [`REGION_COST_GATE`] times the
+/// pool's lowest or at most `floor` (all of the pool if no region cost is finite). Returns 0
+/// for an empty pool.
+pub fn choose(
+    rule: Selection,
+    pool: &[usize],
+    cost: &[f64],
+    descriptors: &[f64],
+    region_cost: &[f64],
+    floor: f64,
+) -> usize {
+    let nan_last = |x: f64| if x.is_nan() { f64::INFINITY } else { x };
+    let lowest = |values: &[f64], among: &[usize]| {
+        among
+            .iter()
+            .copied()
+            .min_by(|&a, &b| nan_last(values[a]).total_cmp(&nan_last(values[b])).then(a.cmp(&b)))
+            .unwrap_or(0)
+    };
+    match rule {
+        Selection::Cost => lowest(cost, pool),
+        Selection::Descriptors => lowest(descriptors, pool),
+        Selection::Region => lowest(region_cost, pool),
+        Selection::Gated => {
+            let best = pool.iter().map(|&i| region_cost[i]).filter(|x| x.is_finite()).fold(f64::INFINITY, f64::min);
+            let gated: Vec<usize> = if best.is_finite() {
+                let gate = (REGION_COST_GATE * best).max(floor);
+                pool.iter().copied().filter(|&i| region_cost[i] <= gate).collect()
+            } else {
+                pool.to_vec()
+            };
+            lowest(descriptors, &gated)
+        }
+    }
 }
 
 fn restrict_rows(m: &Mat<f64>, rows: &[u32]) -> Mat<f64> {
     Mat::from_fn(rows.len(), m.ncols(), |i, j| m[(rows[i] as usize, j)])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn choose_follows_each_rule_within_the_pool() {
+        let cost = [0.1, 5.0, 0.2, 9.0];
+        let desc = [40.0, 10.0, 30.0, 20.0];
+        let region = [90.0, 3.0, 2.0, f64::NAN];
+        let all = [0, 1, 2, 3];
+        assert_eq!(choose(Selection::Cost, &all, &cost, &desc, &region, 0.0), 0);
+        assert_eq!(choose(Selection::Descriptors, &all, &cost, &desc, &region, 0.0), 1);
+        assert_eq!(choose(Selection::Region, &all, &cost, &desc, &region, 0.0), 2);
+        // Gate: region costs <= 3 x 2.0 keep 1 and 2 (not 0: 90, not 3: NaN); lowest desc is 1.
+        assert_eq!(choose(Selection::Gated, &all, &cost, &desc, &region, 0.0), 1);
+        // Only the pool counts: without 1, the gate keeps 2 alone.
+        assert_eq!(choose(Selection::Gated, &[0, 2, 3], &cost, &desc, &region, 0.0), 2);
+        // A wider gate admits the better descriptor score.
+        let region2 = [5.0, 2.0, 7.0];
+        assert_eq!(choose(Selection::Gated, &[0, 1, 2], &cost, &[1.0, 3.0, 0.5], &region2, 0.0), 0);
+        // No finite region cost: descriptors alone.
+        let nan = [f64::NAN; 4];
+        assert_eq!(choose(Selection::Gated, &all, &cost, &desc, &nan, 0.0), 1);
+        assert_eq!(choose(Selection::Cost, &[], &cost, &desc, &region, 0.0), 0);
+        // All region costs small: the floor admits every good fit, not just 3x the best.
+        let small = [0.02, 0.13, 0.09, 0.4];
+        assert_eq!(choose(Selection::Gated, &all, &cost, &[9.0, 3.0, 2.0, 1.0], &small, 0.0), 0);
+        assert_eq!(choose(Selection::Gated, &all, &cost, &[9.0, 3.0, 2.0, 1.0], &small, 0.2), 2);
+    }
 }
