@@ -1,0 +1,55 @@
+//! Laws of the choice among candidate regions (alignment::selection) on an undeformed cut.
+
+use dualspectra::alignment::selection::{partial_signatures, selection_scores};
+use dualspectra::alignment::shot::{shot_descriptors, DEFAULT_MIN_NEIGHBORS, DEFAULT_RADIUS_FRACTION};
+use dualspectra::mesh::generate::icosphere;
+use dualspectra::shape::{Metric, Shape};
+use dualspectra::TriMesh;
+
+/// A unit-area icosphere with two bumps (so the two caps below differ).
+fn bumpy_sphere() -> TriMesh {
+    let bumps = [([0.0, 0.0, 1.0], 0.6, 0.08), ([0.0, -1.0, 0.2], 0.5, 0.12)];
+    let m = icosphere(3)
+        .map_positions(|p| {
+            let r: f64 = 1.0
+                + bumps
+                    .iter()
+                    .map(|(c, h, s)| h * (-(0..3).map(|i| (p[i] - c[i]).powi(2)).sum::<f64>() / (2.0 * s)).exp())
+                    .sum::<f64>();
+            p.map(|x| x * r)
+        })
+        .unwrap();
+    let s = 1.0 / m.area().sqrt();
+    m.map_positions(|p| p.map(|x| x * s)).unwrap()
+}
+
+#[test]
+fn the_true_region_reproduces_the_partials_spectra_and_descriptors() {
+    let full = bumpy_sphere();
+    let v = full.vertices();
+    let top: Vec<bool> = v.iter().map(|p| p[2] > 0.03).collect();
+    let bottom: Vec<bool> = v.iter().map(|p| p[2] < -0.03).collect();
+    let faces: Vec<[u32; 3]> = full.faces().iter().filter(|f| f.iter().all(|&i| top[i as usize])).copied().collect();
+    let (part, _) = TriMesh::new_dropping_isolated(v.to_vec(), faces).unwrap();
+    let (full_shape, part_shape) = (Shape::new(full.clone()), Shape::new(part.clone()));
+    let metrics = [Metric::Regular, Metric::ScaleInvariant];
+    let k = 10;
+    let mu: Vec<Vec<f64>> = metrics.iter().map(|&m| part_shape.dirichlet_spectrum(m, k).unwrap().values).collect();
+    let heights: Vec<f64> = mu.iter().map(|m| 50.0 * m[k - 1]).collect();
+    let d_full = shot_descriptors(&full, DEFAULT_RADIUS_FRACTION, DEFAULT_MIN_NEIGHBORS).unwrap();
+    let d_part = shot_descriptors(&part, DEFAULT_RADIUS_FRACTION, DEFAULT_MIN_NEIGHBORS).unwrap();
+    let targets = partial_signatures(&part_shape, &d_part, &metrics).unwrap();
+    let regions = vec![top, bottom];
+    let s = selection_scores(&full_shape, &d_full, &metrics, &targets, &mu, &heights, &regions).unwrap();
+    let (rc, desc) = (&s.region_cost, &s.descriptors);
+    eprintln!("region cost {rc:?}, descriptor score {desc:?}");
+    // The true region's step potential gives the partial's spectra up to the leak through the
+    // finite wall (50 mu_k) and the region's boundary ring, which the partial holds at zero
+    // (Dirichlet) but the mask leaves open: measured 15% RMS over the 2k eigenvalues, bound 20%.
+    // (Walling that ring gives 2% here, but chose worse on SHREC'16 pairs at 1000 vertices,
+    // where one ring is a large part of a limb: mean IoU 0.661 against 0.695 on 15 pairs.)
+    assert!(rc[0] < 2.0 * k as f64 * 0.2f64.powi(2), "true region cost {}", rc[0]);
+    assert!(rc[1] > 1.5 * rc[0], "wrong region cost {} vs true {}", rc[1], rc[0]);
+    assert!(3.0 * desc[0] < desc[1], "descriptor scores {desc:?}");
+    assert!(rc.iter().chain(desc).all(|x| x.is_finite() && *x >= 0.0));
+}
