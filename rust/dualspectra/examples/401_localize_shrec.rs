@@ -3,7 +3,8 @@
 //!
 //! `cargo run --release --example 401_localize_shrec -- DATASET [STRIDE] [OFFSET]`
 //! Options from the environment: DS_MODE, DS_K, DS_RES, DS_CENTERS, DS_ITERS, DS_FINALISTS,
-//! DS_SELECTION; DS_VERBOSE lists every start (`*`: finalist).
+//! DS_SELECTION (gated, region, descriptors, cost), DS_DESC_START=1 (descriptor start);
+//! DS_VERBOSE lists every start (`*`: finalist).
 
 use dualspectra::evaluation::datasets::Shrec16;
 use dualspectra::evaluation::metrics::{scores, symmetry_aware};
@@ -25,7 +26,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     o.centers = env("DS_CENTERS", o.centers);
     o.max_iterations = env("DS_ITERS", o.max_iterations);
     o.finalists = env("DS_FINALISTS", o.finalists);
-    o.descriptor_start = env("DS_DESC_START", 1) != 0;
+    o.descriptor_start = env("DS_DESC_START", 0) != 0;
     match env("DS_SELECTION", String::new()).as_str() {
         "cost" => o.selection = Selection::Cost,
         "descriptors" => o.selection = Selection::Descriptors,
