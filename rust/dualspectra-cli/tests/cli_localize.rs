@@ -114,6 +114,7 @@ fn localize_writes_the_json_schema_and_a_ply() {
 #[test]
 fn bench_on_a_one_pair_dataset_prints_the_table_and_json() {
     let d = demo_dir();
+    expect_failure(bin().args(["bench", "--quiet", "--stride", "0"]).arg(d.join("dataset")), 2, "--stride");
     let out_dir = tmp("bench");
     let (json, svg) = (out_dir.join("b.json"), out_dir.join("b.svg"));
     let out = run(bin()

@@ -1,5 +1,5 @@
 //! `dualspectra bench DATASET [--mode dual|lbo|si] [--k K] [--json OUT] [--svg OUT]
-//! [--limit N] [--filter SUBSTR]`
+//! [--limit N] [--filter SUBSTR] [--stride N]`
 //!
 //! Runs the localizer on every pair of a dataset in the SHREC'16 layout (`DATASET/null/`,
 //! `DATASET/cuts/`, see `dualspectra::evaluation::datasets`), one pair after another (the
@@ -34,9 +34,12 @@ pub struct Args {
     /// Write the cumulative IoU plot as SVG.
     #[arg(long, value_name = "OUT")]
     pub svg: Option<PathBuf>,
-    /// Run only the first N pairs (after --filter).
+    /// Run only the first N pairs (after --filter and --stride).
     #[arg(long, value_name = "N")]
     pub limit: Option<usize>,
+    /// Run every N-th pair (after --filter), e.g. `--stride 5` for a spread 16 of the 80.
+    #[arg(long, value_name = "N")]
+    pub stride: Option<usize>,
     /// Run only pairs whose name contains SUBSTR (e.g. `cat`, `shape_1`).
     #[arg(long, value_name = "SUBSTR")]
     pub filter: Option<String>,
@@ -224,6 +227,12 @@ pub fn run(args: Args) -> Result<(), CliError> {
     let mut pairs = dataset.pairs()?;
     if let Some(f) = &args.filter {
         pairs.retain(|p| p.name.contains(f.as_str()));
+    }
+    if let Some(s) = args.stride {
+        if s == 0 {
+            return Err(CliError::Usage("--stride must be at least 1".into()));
+        }
+        pairs = pairs.into_iter().step_by(s).collect();
     }
     if let Some(n) = args.limit {
         pairs.truncate(n);
