@@ -260,10 +260,9 @@ pub(crate) fn run(
         (0..ok.len()).collect()
     };
     let costs: Vec<f64> = ok.iter().map(|o| o.cost).collect();
-    let rule = if shot.is_some() { options.selection } else { Selection::Cost };
     let n_eigenvalues: usize = terms.iter().map(|t| t.target.len()).sum();
     let floor = n_eigenvalues as f64 * crate::localize::REGION_COST_FLOOR_RMS.powi(2);
-    let selected = crate::alignment::selection::choose(rule, &pool, &costs, &selection, &region_costs, floor);
+    let selected = crate::alignment::selection::choose(options.selection, &pool, &costs, &selection, &region_costs, floor);
     let t_sel = t0.elapsed().as_secs_f64();
     progress.report(0.98, "finishing")?;
 
@@ -380,8 +379,7 @@ fn optimise_starts(
             })
         })
         .collect::<Result<_>>()?;
-    let families = families(&starts[protected..]);
-    let keep_min = finalists.div_ceil(families.len().max(1));
+    let (families, keep_min) = family_plan(starts, protected, finalists);
     for (r, &iterations) in rounds.iter().enumerate() {
         if r > 0 {
             for family in &families {
@@ -406,22 +404,23 @@ fn optimise_starts(
     Ok(outcomes)
 }
 
-/// The distinct families of `starts`, in order of appearance.
-fn families(starts: &[Start]) -> Vec<&'static str> {
-    let mut out: Vec<&'static str> = Vec::new();
-    for s in starts {
-        if !out.contains(&s.family) {
-            out.push(s.family);
+/// The distinct families of the prunable `starts[protected..]`, in order of appearance, and
+/// how many starts each family keeps at least (the `finalists` shared among the families).
+fn family_plan(starts: &[Start], protected: usize, finalists: usize) -> (Vec<&'static str>, usize) {
+    let mut families: Vec<&'static str> = Vec::new();
+    for s in &starts[protected..] {
+        if !families.contains(&s.family) {
+            families.push(s.family);
         }
     }
-    out
+    let keep_min = finalists.div_ceil(families.len().max(1));
+    (families, keep_min)
 }
 
 /// Total iterations the halving runs (for the progress bar; exact unless a start fails or
 /// converges early, which is credited as if it ran).
 fn halving_total(starts: &[Start], protected: usize, rounds: &[usize], finalists: usize) -> usize {
-    let fams = families(&starts[protected..]);
-    let keep_min = finalists.div_ceil(fams.len().max(1));
+    let (fams, keep_min) = family_plan(starts, protected, finalists);
     let mut alive: Vec<usize> =
         fams.iter().map(|f| starts[protected..].iter().filter(|s| s.family == *f).count()).collect();
     let mut total = 0;

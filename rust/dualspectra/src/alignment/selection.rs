@@ -10,13 +10,13 @@ use crate::error::Result;
 use crate::localize::{Selection, REGION_COST_GATE};
 use crate::shape::{Metric, Shape};
 use crate::spectra::{EigenParams, HamiltonianSolver};
-use faer::Mat;
+use faer::{Mat, MatRef};
 
 /// Eigenfunctions used by the projection (the reference uses 5).
 pub const PROJECTION_EIGENFUNCTIONS: usize = 5;
 
 /// $(\Phi^{\circ 2})^\top \mathrm{diag}(m) D$: a `k x d` matrix. Rows of `vectors`, `mass` and `desc` match.
-pub fn descriptor_projection(vectors: &Mat<f64>, mass: &[f64], desc: &Mat<f64>) -> Mat<f64> {
+pub fn descriptor_projection(vectors: MatRef<'_, f64>, mass: &[f64], desc: &Mat<f64>) -> Mat<f64> {
     let (n, k, d) = (vectors.nrows(), vectors.ncols(), desc.ncols());
     let mut out = Mat::<f64>::zeros(k, d);
     for j in 0..k {
@@ -42,7 +42,7 @@ pub fn partial_signatures(partial: &Shape, desc: &Mat<f64>, metrics: &[Metric]) 
         .map(|&m| {
             let k = PROJECTION_EIGENFUNCTIONS.min(dir.n_free().saturating_sub(1)).max(1);
             let s = partial.dirichlet_spectrum(m, k)?;
-            Ok(descriptor_projection(&s.vectors, &dir.restrict(partial.metric_mass(m)), &desc_free))
+            Ok(descriptor_projection(s.vectors.as_ref(), &dir.restrict(partial.metric_mass(m)), &desc_free))
         })
         .collect()
 }
@@ -83,8 +83,8 @@ pub fn selection_scores(
         for ((r, score), rc) in regions.iter().zip(scores.iter_mut()).zip(region_cost.iter_mut()) {
             let v: Vec<f64> = dir.free.iter().map(|&i| if r[i as usize] { 0.0 } else { tau }).collect();
             let s = solver.solve(&v)?;
-            let first = s.vectors.subcols(0, target.nrows().min(s.vectors.ncols())).to_owned();
-            let c = descriptor_projection(&first, &mass, &desc_free);
+            let first = s.vectors.subcols(0, target.nrows().min(s.vectors.ncols()));
+            let c = descriptor_projection(first, &mass, &desc_free);
             let mut diff = 0.0;
             for j in 0..c.nrows() {
                 for col in 0..c.ncols() {
