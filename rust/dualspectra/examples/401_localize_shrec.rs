@@ -55,9 +55,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .unwrap_or(0.0);
         let direct = scores(&res.region, &p.gt)?;
         println!(
-            "{:<22} iou {:.3} (direct {:.3}) P {:.3} R {:.3} | oracle {:.3} by-cost {:.3} | cost {:.3e} | {:.1}s (opt {:.1}s sel {:.2}s) evals/start {:.0}",
+            "{:<22} iou {:.3} (direct {:.3}) P {:.3} R {:.3} | oracle {:.3} by-cost {:.3} | cost {:.3e} | {:.1}s (pre {:.2}s starts {:.2}s opt {:.1}s sel {:.2}s) evals/start {:.0}",
             pair.name, chosen.iou, direct.iou, chosen.precision, chosen.recall, oracle, by_cost, res.cost, secs,
-            res.timings.optimisation, res.timings.selection,
+            res.timings.preprocessing, res.timings.starts, res.timings.optimisation, res.timings.selection,
             res.candidates.iter().map(|c| c.evaluations as f64).sum::<f64>() / res.candidates.len() as f64
         );
         if std::env::var("DS_VERBOSE").is_ok() {

@@ -85,7 +85,24 @@ pub(crate) fn run(
         let n = full_n.n_vertices() as u32;
         (full_n.clone(), (0..n).collect())
     };
-    let opt_shape = Shape::with_metric_params(opt_mesh, options.alpha, crate::geometry::metric::DEFAULT_EPS);
+    // Nearest optimisation-mesh vertex of every full-shape vertex (the cells of the
+    // optimisation mesh; the region goes back to the full shape through them).
+    let nearest = crate::mesh::nearest::nearest_vertices(opt_mesh.vertices(), full_n.vertices())?;
+    let eps = crate::geometry::metric::DEFAULT_EPS;
+    let opt_shape = if opt_mesh.n_vertices() < full_n.n_vertices() {
+        // Scale-invariant factor estimated at the data's resolution (as the partial's is), then
+        // integrated over the cells of the optimisation mesh (`metric::transfer_factor`). On 16
+        // SHREC'16 pairs (shape_3, shape_8) symmetry-aware IoU 0.651 instead of 0.560 with the
+        // factor of the optimisation mesh's own curvature.
+        let curvature = crate::geometry::smoothed_gaussian_curvature(&full_n);
+        let fine = crate::geometry::metric::scale_invariant_factor(&curvature, options.alpha, eps);
+        let fine_mass = crate::operators::mass::lumped_mass(&full_n);
+        let fallback: Vec<f64> = opt_to_full.iter().map(|&j| fine[j as usize]).collect();
+        let factor = crate::geometry::metric::transfer_factor(&fine, &fine_mass, &nearest, &fallback);
+        Shape::with_scale_invariant_factor(opt_mesh, options.alpha, eps, factor)?
+    } else {
+        Shape::with_metric_params(opt_mesh, options.alpha, eps)
+    };
 
     // --- Target spectra of the partial (Dirichlet on its boundary).
     let (k_reg, k_si) = match options.mode {
@@ -130,7 +147,13 @@ pub(crate) fn run(
     let min_nb = crate::alignment::shot::DEFAULT_MIN_NEIGHBORS;
     let shot = if options.descriptor_start || options.selection != Selection::Cost {
         Some((
-            crate::alignment::shot::shot_descriptors(opt_shape.mesh(), radius, min_nb)?,
+            if opt_shape.n_vertices() < full_n.n_vertices() {
+                // The optimisation mesh's vertices described with their support at the data's
+                // resolution, as the partial's are (16 SHREC'16 pairs: IoU 0.661 vs 0.651).
+                crate::alignment::shot::shot_keypoint_descriptors(&full_n, &opt_to_full, radius, min_nb)?
+            } else {
+                crate::alignment::shot::shot_descriptors(opt_shape.mesh(), radius, min_nb)?
+            },
             crate::alignment::shot::shot_descriptors(part_shape.mesh(), radius, min_nb)?,
         ))
     } else {
@@ -203,7 +226,6 @@ pub(crate) fn run(
     let t0 = Instant::now();
     progress.report(0.9, "regions")?;
     let neighbors = crate::mesh::topology::vertex_neighbors(&full_n);
-    let nearest = crate::mesh::nearest::nearest_vertices(opt_shape.mesh().vertices(), full_n.vertices())?;
     let opt_regions: Vec<Vec<bool>> = ok
         .iter()
         .map(|o| area_matched_region(&o.energy, opt_shape.mass(), partial_area))

@@ -73,6 +73,26 @@ impl Shape {
         }
     }
 
+    /// With a given scale-invariant factor $s$ (one per vertex) instead of the one computed from
+    /// this mesh's own curvature, e.g. one estimated on a finer mesh of the same surface
+    /// ([`crate::geometry::metric::transfer_factor`]). Errors on a wrong length or a
+    /// non-positive or non-finite entry.
+    pub fn with_scale_invariant_factor(mesh: TriMesh, alpha: f64, eps: f64, factor: Vec<f64>) -> Result<Self> {
+        if factor.len() != mesh.n_vertices() {
+            return Err(Error::InvalidArgument(format!(
+                "scale-invariant factor has {} entries for {} vertices",
+                factor.len(),
+                mesh.n_vertices()
+            )));
+        }
+        if let Some(i) = factor.iter().position(|s| !(s.is_finite() && *s > 0.0)) {
+            return Err(Error::InvalidArgument(format!("scale-invariant factor {} at vertex {i} is not positive", factor[i])));
+        }
+        let shape = Self::with_metric_params(mesh, alpha, eps);
+        let _ = shape.si_factor.set(factor);
+        Ok(shape)
+    }
+
     pub fn mesh(&self) -> &TriMesh {
         &self.mesh
     }

@@ -3,7 +3,7 @@
 //! pair (skipped when `$DUALSPECTRA_DATA` is not set).
 
 use dualspectra::alignment::shot::{
-    default_shot_radius, shot_descriptors, shot_with_frames, LocalFrame, Shot,
+    default_shot_radius, shot_descriptors, shot_keypoint_descriptors, shot_with_frames, LocalFrame, Shot,
     DEFAULT_MIN_NEIGHBORS, SHOT_DIM,
 };
 use dualspectra::mesh::generate::icosphere;
@@ -132,6 +132,21 @@ fn rows_are_unit_or_zero_and_deterministic() {
     }
     let again = shot_descriptors(&m, 0.3, DEFAULT_MIN_NEIGHBORS).unwrap();
     assert!(again == shot.descriptors, "not deterministic");
+}
+
+#[test]
+fn keypoint_descriptors_are_the_rows_of_the_full_ones() {
+    let m = bumpy_sphere(2);
+    let all = shot_descriptors(&m, 0.3, DEFAULT_MIN_NEIGHBORS).unwrap();
+    let keys = [7u32, 0, 7, 41, (m.n_vertices() - 1) as u32];
+    let some = shot_keypoint_descriptors(&m, &keys, 0.3, DEFAULT_MIN_NEIGHBORS).unwrap();
+    assert_eq!((some.nrows(), some.ncols()), (keys.len(), SHOT_DIM));
+    for (r, &k) in keys.iter().enumerate() {
+        assert!((0..SHOT_DIM).all(|c| some[(r, c)] == all[(k as usize, c)]), "row {r} (vertex {k}) differs");
+    }
+    let bad = shot_keypoint_descriptors(&m, &[m.n_vertices() as u32], 0.3, DEFAULT_MIN_NEIGHBORS).unwrap_err();
+    assert!(bad.to_string().contains("out of range"), "{bad}");
+    assert!(shot_keypoint_descriptors(&m, &keys, -1.0, DEFAULT_MIN_NEIGHBORS).is_err());
 }
 
 #[test]

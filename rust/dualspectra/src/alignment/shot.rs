@@ -143,11 +143,7 @@ pub fn shot_points(
     radius: f64,
     min_neighbors: usize,
 ) -> Result<Shot> {
-    if !(radius > 0.0 && radius.is_finite()) {
-        return Err(Error::InvalidArgument(format!(
-            "SHOT radius must be finite and positive, got {radius}"
-        )));
-    }
+    check_radius(radius)?;
     if points.len() != normals.len() {
         return Err(Error::InvalidArgument(format!(
             "{} points but {} normals",
@@ -163,18 +159,51 @@ pub fn shot_points(
             "normal {i} has a non-finite coordinate"
         )));
     }
-    let n = points.len();
+    let all: Vec<u32> = (0..points.len() as u32).collect();
+    describe_keypoints(points, normals, &all, radius, min_neighbors)
+}
+
+/// SHOT of the `keypoints` of a mesh, each described by its support on the whole mesh (row
+/// `r` for vertex `keypoints[r]`): the classic keypoint use of SHOT (Salti et al. 2014,
+/// sec. 5). The localizer describes the vertices of its decimated mesh this way, with the
+/// support at the data's resolution, as the partial shape's descriptors are. Errors as
+/// [`shot_descriptors`], and on a keypoint out of range.
+pub fn shot_keypoint_descriptors(mesh: &TriMesh, keypoints: &[u32], radius: f64, min_neighbors: usize) -> Result<Mat<f64>> {
+    if let Some(&k) = keypoints.iter().find(|&&k| k as usize >= mesh.n_vertices()) {
+        return Err(Error::InvalidArgument(format!("keypoint {k} out of range ({} vertices)", mesh.n_vertices())));
+    }
+    check_radius(radius)?;
+    Ok(describe_keypoints(mesh.vertices(), &vertex_normals(mesh), keypoints, radius, min_neighbors)?.descriptors)
+}
+
+fn check_radius(radius: f64) -> Result<()> {
+    if radius > 0.0 && radius.is_finite() {
+        Ok(())
+    } else {
+        Err(Error::InvalidArgument(format!("SHOT radius must be finite and positive, got {radius}")))
+    }
+}
+
+/// Descriptors and frames of `keypoints` (indices into `points`), in parallel.
+fn describe_keypoints(
+    points: &[[f64; 3]],
+    normals: &[[f64; 3]],
+    keypoints: &[u32],
+    radius: f64,
+    min_neighbors: usize,
+) -> Result<Shot> {
     let tree = KdTree::new(points)?;
-    let mut flat = vec![0.0f64; n * SHOT_DIM];
+    let mut flat = vec![0.0f64; keypoints.len() * SHOT_DIM];
     let frames: Vec<Option<LocalFrame>> = flat
         .par_chunks_mut(SHOT_DIM)
-        .enumerate()
-        .map_init(Vec::new, |buf, (i, row)| {
+        .zip(keypoints.par_iter())
+        .map_init(Vec::new, |buf, (row, &i)| {
+            let i = i as usize;
             tree.within_radius_into(points[i], radius, buf);
             describe(points, normals, i, buf, radius, min_neighbors, row)
         })
         .collect();
-    let descriptors = Mat::from_fn(n, SHOT_DIM, |i, j| flat[i * SHOT_DIM + j]);
+    let descriptors = Mat::from_fn(keypoints.len(), SHOT_DIM, |i, j| flat[i * SHOT_DIM + j]);
     Ok(Shot {
         descriptors,
         frames,

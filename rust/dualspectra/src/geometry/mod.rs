@@ -6,4 +6,4 @@ pub mod metric;
 
 pub use angles::{corner_angles, face_areas};
 pub use curvature::{gaussian_curvature, smooth_one_ring, smoothed_gaussian_curvature};
-pub use metric::scale_invariant_factor;
+pub use metric::{scale_invariant_factor, transfer_factor};
