@@ -59,7 +59,10 @@ pub struct Options {
     /// Farthest-point centres for the Gaussian starts (each gives 4 starts). The paper uses
     /// 10 (40 starts); the default 4 (16 starts) keeps a pair around a minute on 2 cores.
     pub centers: usize,
-    /// Trust-region iterations of a start that runs to the end.
+    /// Trust-region iterations of a start that runs to the end. The reference uses 100; the
+    /// default 50 (~200 cost evaluations per start instead of ~330) chose regions as good on 16
+    /// SHREC'16 pairs (shape_3, shape_8: symmetry-aware IoU 0.673 vs 0.661, best start 0.744 vs
+    /// 0.742) in ~60% of the time.
     pub max_iterations: usize,
     /// Successive halving of the starts: all starts run `max_iterations / 8` iterations, then
     /// the better half (by cost) continues to `/4`, then to `/2`, then to the end; a round never
@@ -124,7 +127,7 @@ impl Default for Options {
             seed: 0,
             resolution: 1000,
             centers: 4,
-            max_iterations: 100,
+            max_iterations: 50,
             finalists: 0,
             descriptor_start: false,
             threads: 0,

@@ -55,7 +55,7 @@ pub struct LocalizeOptions {
     /// Farthest-point centres of the Gaussian starts (4 starts each) [default: the library's, 4; the paper used 10].
     #[arg(long, value_name = "N")]
     pub centers: Option<usize>,
-    /// Trust-region iterations per start [default: the library's, 100].
+    /// Trust-region iterations per start [default: the library's, 50].
     #[arg(long, value_name = "N")]
     pub iterations: Option<usize>,
     /// Vertices of the decimated full shape the potential is optimised on; 0 = no decimation
