@@ -56,6 +56,18 @@ fn finds_an_undeformed_cut() {
 }
 
 #[test]
+fn finds_an_undeformed_cut_on_a_decimated_optimisation_mesh() {
+    // The optimisation runs on ~300 of the 2562 vertices, with the scale-invariant factor and
+    // the descriptors carried from the full resolution; the region comes back to all vertices.
+    let full = bumpy_sphere(4);
+    let (part, truth) = cut(&full, |p| p[2] > 0.1);
+    let res = localize(&full, &part, &Options { resolution: 300, ..quick() }, &Progress::none()).unwrap();
+    let score = iou(&res.region, &truth);
+    assert!(score > 0.85, "IoU {score}, cost {}", res.cost);
+    assert_eq!(res.region.len(), full.n_vertices());
+}
+
+#[test]
 fn result_does_not_depend_on_units() {
     let full = bumpy_sphere(2);
     let (part, _) = cut(&full, |p| p[0] > 0.0);
