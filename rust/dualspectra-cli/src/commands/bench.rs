@@ -16,7 +16,7 @@ use crate::output::{to_json_line, write_text};
 use dualspectra::evaluation::datasets::{Pair, Shrec16};
 use dualspectra::evaluation::metrics::{self, cumulative_iou, Match, Scores};
 use dualspectra::operators::lumped_mass;
-use dualspectra::{Mode, Options, Progress};
+use dualspectra::{Mode, Options, Progress, Timings};
 use serde::Serialize;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -64,6 +64,8 @@ pub struct PairResult {
     pub area_iou: f64,
     pub cost: f64,
     pub seconds: f64,
+    /// Seconds per stage of the localizer (zero for a failed pair).
+    pub timings: Timings,
     /// Set if the pair failed (then all scores are 0).
     pub error: Option<String>,
     /// The region (0-based vertex indices of the full shape).
@@ -79,6 +81,8 @@ pub struct Summary {
     pub mean_area_iou: f64,
     pub median_seconds: f64,
     pub total_seconds: f64,
+    /// Median seconds of each stage over the pairs that ran (where the time goes).
+    pub median_stage_seconds: Timings,
 }
 
 #[derive(Serialize)]
@@ -121,6 +125,7 @@ fn run_pair(
         area_iou,
         cost: loc.cost,
         seconds,
+        timings: loc.timings.clone(),
         error: None,
         region: region_indices(&loc.region),
     })
@@ -142,6 +147,8 @@ pub fn summarize(results: &[PairResult]) -> Summary {
         .filter(|r| r.error.is_none())
         .map(|r| r.seconds)
         .collect();
+    let ran: Vec<&Timings> = results.iter().filter(|r| r.error.is_none()).map(|r| &r.timings).collect();
+    let stage = |f: fn(&Timings) -> f64| metrics::median(&ran.iter().map(|t| f(t)).collect::<Vec<_>>());
     Summary {
         pairs: results.len(),
         failed: results.iter().filter(|r| r.error.is_some()).count(),
@@ -150,6 +157,14 @@ pub fn summarize(results: &[PairResult]) -> Summary {
         mean_area_iou: metrics::mean(&results.iter().map(|r| r.area_iou).collect::<Vec<_>>()),
         median_seconds: metrics::median(&secs),
         total_seconds: secs.iter().sum(),
+        median_stage_seconds: Timings {
+            preprocessing: stage(|t| t.preprocessing),
+            starts: stage(|t| t.starts),
+            optimisation: stage(|t| t.optimisation),
+            selection: stage(|t| t.selection),
+            region: stage(|t| t.region),
+            total: stage(|t| t.total),
+        },
     }
 }
 
@@ -264,6 +279,7 @@ pub fn run(args: Args) -> Result<(), CliError> {
             area_iou: 0.0,
             cost: f64::NAN,
             seconds: 0.0,
+            timings: Timings::default(),
             error: Some(
                 e.to_string()
                     .split_whitespace()
@@ -294,6 +310,11 @@ pub fn run(args: Args) -> Result<(), CliError> {
         s.mean_sym.iou,
         s.mean_area_iou,
         s.median_seconds
+    );
+    let t = &s.median_stage_seconds;
+    println!(
+        "median seconds per stage: preprocessing {:.2}, starts (incl. SHOT) {:.2}, optimisation {:.2}, regions {:.2}, selection {:.2}",
+        t.preprocessing, t.starts, t.optimisation, t.region, t.selection
     );
     if let Some(path) = &args.json {
         let report = Report {
@@ -364,6 +385,7 @@ mod tests {
             area_iou: 1.0,
             cost: 0.0,
             seconds: 3.0,
+            timings: Timings { optimisation: 2.5, total: 3.0, ..Timings::default() },
             error: None,
             region: vec![0],
         };
@@ -379,5 +401,7 @@ mod tests {
         assert_eq!((s.pairs, s.failed), (2, 1));
         assert_eq!(s.mean.iou, 0.5);
         assert_eq!(s.median_seconds, 3.0);
+        // Stage medians over the pairs that ran (the failed one's zeros do not count).
+        assert_eq!((s.median_stage_seconds.optimisation, s.median_stage_seconds.total), (2.5, 3.0));
     }
 }
