@@ -8,15 +8,50 @@
 
 use dualspectra::evaluation::datasets::Shrec16;
 use dualspectra::evaluation::metrics::{scores, symmetry_aware};
+use dualspectra::mesh::topology::{connected_components, edge_face_counts, euler_characteristic};
+use dualspectra::mesh::TriMesh;
 use dualspectra::{localize_with_initial_regions, Options, Progress, Selection};
 
 fn env<T: std::str::FromStr>(k: &str, d: T) -> T {
-    std::env::var(k).ok().and_then(|v| v.parse().ok()).unwrap_or(d)
+    std::env::var(k)
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(d)
+}
+
+/// Shape of a vertex region (the faces with all three vertices in it) or of a whole mesh:
+/// (Euler characteristic, connected components, boundary length). For the selection study.
+fn region_shape(mesh: &TriMesh, region: Option<&[bool]>) -> (i64, usize, f64) {
+    let faces: Vec<[u32; 3]> = mesh
+        .faces()
+        .iter()
+        .filter(|f| region.is_none_or(|r| f.iter().all(|&i| r[i as usize])))
+        .cloned()
+        .collect();
+    let Ok((sub, _)) = TriMesh::new_dropping_isolated(mesh.vertices().to_vec(), faces) else {
+        return (0, 0, 0.0);
+    };
+    let v = sub.vertices();
+    let blen: f64 = edge_face_counts(&sub)
+        .into_iter()
+        .filter(|&(_, c)| c == 1)
+        .map(|((a, b), _)| {
+            let (p, q) = (v[a as usize], v[b as usize]);
+            ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
+        })
+        .sum();
+    (
+        euler_characteristic(&sub),
+        connected_components(&sub).1,
+        blen,
+    )
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
-    let root = args.get(1).ok_or("usage: 401_localize_shrec DATASET [STRIDE] [OFFSET]")?;
+    let root = args
+        .get(1)
+        .ok_or("usage: 401_localize_shrec DATASET [STRIDE] [OFFSET]")?;
     let stride: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(1);
     let offset: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(0);
     let mut o = Options::default();
@@ -41,11 +76,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let p = pair.load()?;
         let t = std::time::Instant::now();
         // DS_GT_START=1: also start from the ground truth (is the cost minimal there?).
-        let given = if std::env::var("DS_GT_START").is_ok() { vec![p.gt.clone()] } else { vec![] };
-        let res = localize_with_initial_regions(&p.full, &p.partial, &o, &given, &Progress::none())?;
+        let given = if std::env::var("DS_GT_START").is_ok() {
+            vec![p.gt.clone()]
+        } else {
+            vec![]
+        };
+        let res =
+            localize_with_initial_regions(&p.full, &p.partial, &o, &given, &Progress::none())?;
         let secs = t.elapsed().as_secs_f64();
         let sym = p.gt_sym.clone().unwrap_or_else(|| p.gt.clone());
-        let iou = |r: &[bool]| symmetry_aware(r, &p.gt, &sym, None).map(|(s, _)| s.iou).unwrap_or(0.0);
+        let iou = |r: &[bool]| {
+            symmetry_aware(r, &p.gt, &sym, None)
+                .map(|(s, _)| s.iou)
+                .unwrap_or(0.0)
+        };
         let chosen = symmetry_aware(&res.region, &p.gt, &sym, None)?.0;
         let per_start: Vec<f64> = res.candidates.iter().map(|c| iou(&c.region)).collect();
         let oracle = per_start.iter().cloned().fold(0.0, f64::max);
@@ -62,9 +106,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
         if std::env::var("DS_VERBOSE").is_ok() {
             let rel = |l: &[f64], m: &[f64]| -> Vec<String> {
-                l.iter().zip(m).map(|(a, b)| format!("{:+.2}", (a - b) / b)).collect()
+                l.iter()
+                    .zip(m)
+                    .map(|(a, b)| format!("{:+.2}", (a - b) / b))
+                    .collect()
             };
-            let term = |l: &[f64], m: &[f64]| l.iter().zip(m).map(|(a, b)| ((a - b) / b).powi(2)).sum::<f64>();
+            let term = |l: &[f64], m: &[f64]| {
+                l.iter()
+                    .zip(m)
+                    .map(|(a, b)| ((a - b) / b).powi(2))
+                    .sum::<f64>()
+            };
             println!(
                 "    selected: regular cost {:.3e} SI cost {:.3e}\n    reg rel err {}\n    SI  rel err {}",
                 term(&res.eigenvalues_regular, &res.target_regular),
@@ -72,9 +124,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 rel(&res.eigenvalues_regular, &res.target_regular).join(" "),
                 rel(&res.eigenvalues_si, &res.target_si).join(" ")
             );
+            let (pchi, pcomp, plen) = region_shape(&p.partial, None);
+            println!("    partial: chi {pchi} comp {pcomp} blen {plen:.3}");
             for (c, i) in res.candidates.iter().zip(&per_start) {
+                let (chi, comp, blen) = region_shape(&p.full, Some(&c.region));
                 println!(
-                    "  {} {:<20} cost {:10.3e} sel {:10.4e} rc {:10.3e} iou {:.3} it {}",
+                    "  {} {:<20} cost {:10.3e} sel {:10.4e} rc {:10.3e} iou {:.3} it {} chi {chi} comp {comp} blen {blen:.3}",
                     if c.finalist { '*' } else { ' ' },
                     c.label,
                     c.cost,
@@ -91,6 +146,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         count += 1;
     }
     let n = count.max(1) as f64;
-    println!("MEAN over {count}: iou {:.3} | oracle {:.3} | by-cost {:.3}", sum_iou / n, sum_oracle / n, sum_cost_sel / n);
+    println!(
+        "MEAN over {count}: iou {:.3} | oracle {:.3} | by-cost {:.3}",
+        sum_iou / n,
+        sum_oracle / n,
+        sum_cost_sel / n
+    );
     Ok(())
 }

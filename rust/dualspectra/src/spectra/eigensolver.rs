@@ -26,7 +26,9 @@ use super::spectrum::{EigenInfo, EigenParams, Spectrum};
 use crate::error::{Error, Result};
 use crate::operators::SparseMatrix;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
-use faer::matrix_free::eigen::{partial_self_adjoint_eigen, partial_self_adjoint_eigen_scratch, PartialEigenParams};
+use faer::matrix_free::eigen::{
+    partial_self_adjoint_eigen, partial_self_adjoint_eigen_scratch, PartialEigenParams,
+};
 use faer::matrix_free::LinOp;
 use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::{Col, Mat, MatMut, MatRef, Par};
@@ -44,7 +46,9 @@ pub fn generalized_eigen(w: &SparseMatrix, mass: &[f64], params: &EigenParams) -
     let mut solver = HamiltonianSolver::new(w, mass, params.clone())?;
     let zero = vec![0.0; solver.n()];
     solver.solve_cold(&zero)?;
-    Ok(solver.take_spectrum().expect("solve_cold stored a spectrum"))
+    Ok(solver
+        .take_spectrum()
+        .expect("solve_cold stored a spectrum"))
 }
 
 /// Solver of $(W + \mathrm{diag}(m \odot v))\phi = \lambda\,\mathrm{diag}(m)\,\phi$ for a
@@ -72,6 +76,8 @@ pub struct HamiltonianSolver {
     factor_current: bool,
     /// Iterations of the last warm solve (a stale preconditioner is refreshed when high).
     last_warm_iterations: usize,
+    /// Warm solves that missed eigenvalues (caught by the inertia check, solved cold).
+    missed_solves: usize,
 }
 
 impl HamiltonianSolver {
@@ -92,9 +98,16 @@ impl HamiltonianSolver {
             )));
         }
         if !(params.tol.is_finite() && params.tol > 0.0) {
-            return Err(Error::InvalidArgument(format!("tol = {} must be positive", params.tol)));
+            return Err(Error::InvalidArgument(format!(
+                "tol = {} must be positive",
+                params.tol
+            )));
         }
-        if let Some((i, &mi)) = mass.iter().enumerate().find(|(_, &m)| !(m.is_finite() && m > 0.0)) {
+        if let Some((i, &mi)) = mass
+            .iter()
+            .enumerate()
+            .find(|(_, &m)| !(m.is_finite() && m > 0.0))
+        {
             return Err(Error::InvalidArgument(format!(
                 "mass[{i}] = {mi} is not a positive finite number"
             )));
@@ -126,6 +139,7 @@ impl HamiltonianSolver {
             block: None,
             factor_current: false,
             last_warm_iterations: 0,
+            missed_solves: 0,
             params,
         })
     }
@@ -159,6 +173,12 @@ impl HamiltonianSolver {
     pub fn take_spectrum(&mut self) -> Option<Spectrum> {
         self.block = None;
         self.spectrum.take()
+    }
+
+    /// Warm solves so far whose block had converged to eigenpairs that are not the smallest
+    /// (found by the inertia check and redone cold).
+    pub fn missed_solves(&self) -> usize {
+        self.missed_solves
     }
 
     /// Forget the previous spectrum: the next solve is cold.
@@ -259,7 +279,11 @@ impl HamiltonianSolver {
 
     /// $m \odot v$, the diagonal added to $W$.
     fn extra_diag(&self) -> Vec<f64> {
-        self.mass.iter().zip(&self.potential).map(|(m, v)| m * v).collect()
+        self.mass
+            .iter()
+            .zip(&self.potential)
+            .map(|(m, v)| m * v)
+            .collect()
     }
 
     /// Cold solve of `k + guards` pairs (ascending), with the Sylvester-inertia check that no
@@ -284,7 +308,9 @@ impl HamiltonianSolver {
         // against ~0.4 s for this path on a 2,500-vertex shape).
         if self.potential.iter().any(|&v| v != 0.0) {
             let p = (nev + nev / 2 + 2).min(n - 1);
-            let x0 = Mat::from_fn(n, p, |i, j| start_value(i as u64, 7 + j as u64) * self.inv_sqrt_m[i]);
+            let x0 = Mat::from_fn(n, p, |i, j| {
+                start_value(i as u64, 7 + j as u64) * self.inv_sqrt_m[i]
+            });
             if let Some((values, vectors, iters)) = super::block::refine(
                 &self.factor,
                 &self.mass,
@@ -295,7 +321,11 @@ impl HamiltonianSolver {
                 self.params.tol,
                 300,
             )? {
-                return Ok((values[..nev].to_vec(), vectors.as_ref().subcols(0, nev).to_owned(), iters));
+                return Ok((
+                    values[..nev].to_vec(),
+                    vectors.as_ref().subcols(0, nev).to_owned(),
+                    iters,
+                ));
             }
         }
         let v0 = Col::from_fn(n, |i| start_value(i as u64, 0) * self.sqrt_m[i]);
@@ -329,13 +359,19 @@ impl HamiltonianSolver {
             thetas.extend_from_slice(&t2);
             let mut merged = Mat::<f64>::zeros(n, y.ncols() + y2.ncols());
             merged.as_mut().subcols_mut(0, y.ncols()).copy_from(&y);
-            merged.as_mut().subcols_mut(y.ncols(), y2.ncols()).copy_from(&y2);
+            merged
+                .as_mut()
+                .subcols_mut(y.ncols(), y2.ncols())
+                .copy_from(&y2);
             y = merged;
         }
         let mut order: Vec<usize> = (0..thetas.len()).collect();
         order.sort_by(|&a, &b| thetas[b].total_cmp(&thetas[a]));
         order.truncate(nev);
-        let values: Vec<f64> = order.iter().map(|&j| self.sigma + 1.0 / thetas[j]).collect();
+        let values: Vec<f64> = order
+            .iter()
+            .map(|&j| self.sigma + 1.0 / thetas[j])
+            .collect();
         let vectors = Mat::from_fn(n, nev, |i, j| y[(i, order[j])] * self.inv_sqrt_m[i]);
         Ok((values, vectors, rounds))
     }
@@ -356,6 +392,29 @@ impl HamiltonianSolver {
         let Some((values, vectors, iters)) = out else {
             return Ok(None);
         };
+        // Sylvester check: from eigenvectors of a different potential, the block can converge
+        // to eigenpairs that are not the smallest (e.g. when a well opens where the old
+        // vectors have no support, the new low eigenvalues are missed and the Ritz values sit
+        // on the walls). The number of negative pivots of $H - \mu M$, $\mu$ a hair above
+        // $\lambda_k$, must not exceed the eigenvalues found below $\mu$; else solve cold.
+        let mut lam = values.clone();
+        lam.sort_by(f64::total_cmp);
+        let mu = lam[k - 1] + 1e-6 * (lam[k - 1].abs() + self.sigma.abs());
+        let found = lam.iter().filter(|&&l| l < mu).count();
+        let d: Vec<f64> = self
+            .mass
+            .iter()
+            .zip(&self.potential)
+            .map(|(m, v)| m * (v - mu))
+            .collect();
+        if self
+            .factor
+            .count_negative(&d)
+            .is_some_and(|below| below > found)
+        {
+            self.missed_solves += 1;
+            return Ok(None);
+        }
         self.last_warm_iterations = iters;
         let spec = self.finish(
             values[..k].to_vec(),
@@ -394,7 +453,8 @@ impl HamiltonianSolver {
             kp.min_dim = kp.min_dim.min(kp.max_dim - 1);
         }
         let req = partial_self_adjoint_eigen_scratch::<f64>(&op, k, Par::Seq, kp);
-        let mut mem = MemBuffer::try_new(req).map_err(|_| Error::Numerical("out of memory".into()))?;
+        let mut mem =
+            MemBuffer::try_new(req).map_err(|_| Error::Numerical("out of memory".into()))?;
         let mut y = Mat::<f64>::zeros(n, k);
         let mut thetas = vec![0.0; k];
         // Absolute tolerance on the residual of theta: theta_max <= 1/|sigma|.
@@ -419,7 +479,13 @@ impl HamiltonianSolver {
     }
 
     /// Sort, fix signs, measure residuals.
-    fn finish(&self, values: Vec<f64>, vectors: Mat<f64>, iterations: usize, warm: bool) -> Spectrum {
+    fn finish(
+        &self,
+        values: Vec<f64>,
+        vectors: Mat<f64>,
+        iterations: usize,
+        warm: bool,
+    ) -> Spectrum {
         let (n, k) = (vectors.nrows(), vectors.ncols());
         let mut order: Vec<usize> = (0..k).collect();
         order.sort_by(|&a, &b| values[a].total_cmp(&values[b]));
@@ -506,7 +572,14 @@ struct ShiftInvert<'a> {
 /// `x <- (I - Y Y^T) x`.
 fn project_out(y: MatRef<'_, f64>, mut x: MatMut<'_, f64>) {
     let mut c = Mat::<f64>::zeros(y.ncols(), x.ncols());
-    faer::linalg::matmul::matmul(c.as_mut(), faer::Accum::Replace, y.transpose(), x.rb(), 1.0, Par::Seq);
+    faer::linalg::matmul::matmul(
+        c.as_mut(),
+        faer::Accum::Replace,
+        y.transpose(),
+        x.rb(),
+        1.0,
+        Par::Seq,
+    );
     faer::linalg::matmul::matmul(x.rb_mut(), faer::Accum::Add, y, c.as_ref(), -1.0, Par::Seq);
 }
 
@@ -531,7 +604,13 @@ impl LinOp<f64> for ShiftInvert<'_> {
     fn ncols(&self) -> usize {
         self.factor.n()
     }
-    fn apply(&self, mut out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, _par: Par, stack: &mut MemStack) {
+    fn apply(
+        &self,
+        mut out: MatMut<'_, f64>,
+        rhs: MatRef<'_, f64>,
+        _par: Par,
+        stack: &mut MemStack,
+    ) {
         let n = self.factor.n();
         out.copy_from(rhs);
         if let Some(y) = self.deflate {
@@ -552,7 +631,13 @@ impl LinOp<f64> for ShiftInvert<'_> {
             project_out(y, out.rb_mut());
         }
     }
-    fn conj_apply(&self, out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, par: Par, stack: &mut MemStack) {
+    fn conj_apply(
+        &self,
+        out: MatMut<'_, f64>,
+        rhs: MatRef<'_, f64>,
+        par: Par,
+        stack: &mut MemStack,
+    ) {
         self.apply(out, rhs, par, stack)
     }
 }
