@@ -270,6 +270,13 @@ impl HamiltonianSolver {
         Ok(())
     }
 
+    /// Sylvester inertia: the number of eigenvalues of the current pencil below `mu` (negative
+    /// pivots of $W + \mathrm{diag}(m \odot (v - \mu))$); `None` on a zero pivot.
+    fn eigenvalues_below(&self, mu: f64) -> Option<usize> {
+        let d: Vec<f64> = self.mass.iter().zip(&self.potential).map(|(m, v)| m * (v - mu)).collect();
+        self.factor.count_negative(&d)
+    }
+
     /// Number of guard vectors carried beyond the `k` wanted.
     fn guards(&self) -> usize {
         (self.params.k / 4)
@@ -335,14 +342,8 @@ impl HamiltonianSolver {
             let mut lam: Vec<f64> = thetas.iter().map(|t| self.sigma + 1.0 / t).collect();
             lam.sort_by(f64::total_cmp);
             let mu = inertia_cut(&lam, k, self.sigma);
-            let d: Vec<f64> = self
-                .mass
-                .iter()
-                .zip(&self.potential)
-                .map(|(m, v)| m * (v - mu))
-                .collect();
             let found = lam.iter().filter(|&&l| l < mu).count();
-            let Some(below) = self.factor.count_negative(&d) else {
+            let Some(below) = self.eigenvalues_below(mu) else {
                 break;
             };
             if below <= found {
@@ -401,16 +402,7 @@ impl HamiltonianSolver {
         lam.sort_by(f64::total_cmp);
         let mu = lam[k - 1] + 1e-6 * (lam[k - 1].abs() + self.sigma.abs());
         let found = lam.iter().filter(|&&l| l < mu).count();
-        let d: Vec<f64> = self
-            .mass
-            .iter()
-            .zip(&self.potential)
-            .map(|(m, v)| m * (v - mu))
-            .collect();
-        if self
-            .factor
-            .count_negative(&d)
-            .is_some_and(|below| below > found)
+        if self.eigenvalues_below(mu).is_some_and(|below| below > found)
         {
             self.missed_solves += 1;
             return Ok(None);
