@@ -14,17 +14,11 @@
 //! = \mathrm{span}[X, K^{-1}MX]$: a block Krylov step. When the potential changed a little,
 //! $X$ is nearly invariant and a few iterations suffice.
 
-use super::eigensolver::residual_bound;
 use super::factor::ShiftedFactor;
 use crate::error::Result;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, MatRef, Par, Side};
-
-/// Relative residuals below this are converged in the warm iteration.
-fn warm_target(tol: f64) -> f64 {
-    residual_bound(tol)
-}
 
 /// `H x = W x + (m v) .* x`.
 fn h_mul(factor: &ShiftedFactor, mv: &[f64], x: MatRef<'_, f64>) -> Mat<f64> {
@@ -94,8 +88,9 @@ fn rayleigh_ritz(s: MatRef<'_, f64>, hs: MatRef<'_, f64>, mass: &[f64], k: usize
     Some((values, c))
 }
 
-/// LOBPCG from `x0` (`n x b`) until the first `wanted` Ritz pairs have converged (the others
-/// are guard vectors: they enrich the Rayleigh-Ritz space and speed up the last wanted pairs).
+/// LOBPCG from `x0` (`n x b`) until the first `wanted` Ritz pairs have converged, i.e. their
+/// relative residuals $\lVert H\phi - \lambda M\phi \rVert_{M^{-1}} / (|\lambda| + |\sigma|)$
+/// are at most `target` (the others are guard vectors: they enrich the Rayleigh-Ritz space and speed up the last wanted pairs).
 /// `factor` may hold an older potential: it is only a preconditioner. `Ok(None)` when it does
 /// not converge in `max_iter` iterations (the caller then solves cold).
 #[allow(clippy::too_many_arguments)]
@@ -106,12 +101,11 @@ pub(crate) fn refine(
     sigma: f64,
     x0: MatRef<'_, f64>,
     wanted: usize,
-    tol: f64,
+    target: f64,
     max_iter: usize,
 ) -> Result<Option<(Vec<f64>, Mat<f64>, usize)>> {
     let (n, k) = (x0.nrows(), x0.ncols());
     let mv: Vec<f64> = mass.iter().zip(potential).map(|(m, v)| m * v).collect();
-    let target = warm_target(tol);
     let mut solve_mem = MemBuffer::new(factor.solve_scratch(wanted.min(k)));
 
     let hx0 = h_mul(factor, &mv, x0);

@@ -1,4 +1,4 @@
-//! Dense fallback for small pencils (where a Krylov space of the default size would not fit).
+//! Dense fallback for small pencils (where a block of the default size would not fit).
 //!
 //! $H\phi = \lambda M\phi$ with $M = \mathrm{diag}(m)$ becomes the standard problem
 //! $M^{-1/2} H M^{-1/2} y = \lambda y$, $\phi = M^{-1/2} y$, solved by a dense symmetric

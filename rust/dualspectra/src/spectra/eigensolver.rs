@@ -5,13 +5,13 @@
 //! definite ($W \succeq 0$, $v \ge 0$, $m > 0$), and with $D = M^{1/2}$
 //! $$S = D K^{-1} D, \qquad S y = \theta y \iff H\phi = \lambda M\phi,\quad
 //! \lambda = \sigma + 1/\theta,\quad \phi = D^{-1} y .$$
-//! The smallest $\lambda$ are the largest $\theta$, well separated, so a Krylov method on $S$
-//! converges in a few dozen applications of $K^{-1}$ (one sparse Cholesky solve each). The
+//! The smallest $\lambda$ are the largest $\theta$, well separated, so a subspace method on
+//! $S$ converges in a few dozen applications of $K^{-1}$ (one sparse Cholesky solve each). The
 //! orthonormal $y$ give $M$-orthonormal $\phi$: $\Phi^\top M \Phi = Y^\top Y = I$.
 //!
-//! **Cold solve**: thick-restart Lanczos (Krylov-Schur, faer's `partial_self_adjoint_eigen`)
-//! from a fixed pseudo-random start vector. **Warm solve** ([`HamiltonianSolver`]): the
-//! previous eigenvectors start a block Rayleigh-Ritz iteration (see `block`).
+//! **Cold solve**: block LOBPCG preconditioned by $K^{-1}$ (see `block`) from a fixed
+//! pseudo-random block, checked by Sylvester's inertia. **Warm solve**
+//! ([`HamiltonianSolver`]): the previous eigenvectors start the same iteration.
 //!
 //! **Shift.** $\sigma = -1/\sum_j m_j$ by default: the eigenvalue unit of a surface of that
 //! area (a unit sphere has $\lambda_1 \sum m = 8\pi$, a unit-area disk with Dirichlet
@@ -25,16 +25,11 @@ use super::factor::ShiftedFactor;
 use super::spectrum::{EigenInfo, EigenParams, Spectrum};
 use crate::error::{Error, Result};
 use crate::operators::SparseMatrix;
-use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
-use faer::matrix_free::eigen::{
-    partial_self_adjoint_eigen, partial_self_adjoint_eigen_scratch, PartialEigenParams,
-};
-use faer::matrix_free::LinOp;
-use faer::reborrow::{Reborrow, ReborrowMut};
-use faer::{Col, Mat, MatMut, MatRef, Par};
+use faer::{Mat, MatRef};
 
 /// Below this size (or `3 k`), the dense fallback is used.
 const DENSE_MAX: usize = 200;
+
 
 /// The $k$ smallest eigenpairs of $W\phi = \lambda\,\mathrm{diag}(m)\,\phi$.
 ///
@@ -64,7 +59,6 @@ pub fn generalized_eigen(w: &SparseMatrix, mass: &[f64], params: &EigenParams) -
 pub struct HamiltonianSolver {
     params: EigenParams,
     mass: Vec<f64>,
-    sqrt_m: Vec<f64>,
     inv_sqrt_m: Vec<f64>,
     sigma: f64,
     factor: ShiftedFactor,
@@ -129,7 +123,6 @@ impl HamiltonianSolver {
         }
         let factor = ShiftedFactor::new(w)?;
         Ok(HamiltonianSolver {
-            sqrt_m: mass.iter().map(|m| m.sqrt()).collect(),
             inv_sqrt_m: mass.iter().map(|m| 1.0 / m.sqrt()).collect(),
             mass: mass.to_vec(),
             sigma,
@@ -270,11 +263,18 @@ impl HamiltonianSolver {
         Ok(())
     }
 
-    /// Sylvester inertia: the number of eigenvalues of the current pencil below `mu` (negative
-    /// pivots of $W + \mathrm{diag}(m \odot (v - \mu))$); `None` on a zero pivot.
-    fn eigenvalues_below(&self, mu: f64) -> Option<usize> {
+    /// Eigenvalues of the current pencil missing from the ascending `lam` (the `k` wanted plus
+    /// guards) below the `k`-th one: Sylvester's inertia (the negative pivots of
+    /// $W + \mathrm{diag}(m \odot (v - \mu))$ count the eigenvalues below $\mu$) at the cut
+    /// $\mu$ just below the cluster of $\lambda_k$ ([`inertia_cut`]), against the found values
+    /// below $\mu$. A repeated $\lambda_k$ whose cluster extends past the guards is not a miss
+    /// (its members have one value). `accuracy`: the relative residual the values were solved
+    /// to (it bounds their error). 0 on a zero pivot.
+    fn missing_below_kth(&self, lam: &[f64], accuracy: f64) -> usize {
+        let mu = inertia_cut(lam, self.params.k, accuracy, self.sigma);
+        let found = lam.iter().filter(|&&l| l < mu).count();
         let d: Vec<f64> = self.mass.iter().zip(&self.potential).map(|(m, v)| m * (v - mu)).collect();
-        self.factor.count_negative(&d)
+        self.factor.count_negative(&d).map_or(0, |below| below.saturating_sub(found))
     }
 
     /// Number of guard vectors carried beyond the `k` wanted.
@@ -293,12 +293,20 @@ impl HamiltonianSolver {
             .collect()
     }
 
-    /// Cold solve of `k + guards` pairs (ascending), with the Sylvester-inertia check that no
-    /// eigenvalue below the `k`-th was missed: a single-vector Krylov space holds one direction
-    /// per eigenspace, so members of an exactly repeated eigenvalue (symmetric meshes) can be
-    /// missing. The count of negative pivots of $H - \mu M$ is the number of eigenvalues below
-    /// $\mu$; missing ones are found by Krylov-Schur on the deflated operator
-    /// $(I - YY^\top) S (I - YY^\top)$.
+    /// Cold solve of `k + guards` pairs (ascending): block LOBPCG preconditioned by the exact
+    /// shift-inverted factor (= block shift-invert subspace iteration) from a fixed
+    /// pseudo-random block of `p > k + guards` vectors, then Sylvester's inertia check that no
+    /// eigenvalue below the `k`-th was missed (the negative pivots of $H - \mu M$ count the
+    /// eigenvalues below $\mu$). A miss is retried from another random block with room for
+    /// the missing ones; after three attempts it is an error, never a silent wrong spectrum.
+    ///
+    /// A block method finds every member of a repeated eigenvalue (symmetric meshes). The
+    /// single-vector Krylov-Schur used before (faer's `partial_self_adjoint_eigen`) holds one
+    /// direction per eigenspace, needed deflation rounds for the rest, and one such round
+    /// never returned (faer's Lanczos re-orthogonalisation loops forever when the new
+    /// vector is exactly zero: icosphere, k = 43); it also stalled on step potentials ~50x
+    /// the wanted eigenvalues (tens of seconds per solve against ~0.4 s for this path on a
+    /// 2,500-vertex shape).
     fn cold(&self) -> Result<(Vec<f64>, Mat<f64>, usize)> {
         let n = self.n();
         let k = self.params.k;
@@ -308,73 +316,45 @@ impl HamiltonianSolver {
             let (values, vectors) = dense_smallest(&self.factor, &extra, &self.inv_sqrt_m, nev)?;
             return Ok((values, vectors, 0));
         }
-        // A Hamiltonian with a non-zero potential: block iteration (LOBPCG preconditioned by
-        // the exact shift-inverted factor = block shift-invert subspace iteration) from a fixed
-        // pseudo-random block. Single-vector Krylov-Schur was measured to stall on step
-        // potentials whose height is ~50x the wanted eigenvalues (tens of seconds per solve,
-        // against ~0.4 s for this path on a 2,500-vertex shape).
-        if self.potential.iter().any(|&v| v != 0.0) {
-            let p = (nev + nev / 2 + 2).min(n - 1);
+        let mut p = (nev + nev / 2 + 2).min(n - 1);
+        let mut missing = 0;
+        for attempt in 0..3u64 {
             let x0 = Mat::from_fn(n, p, |i, j| {
-                start_value(i as u64, 7 + j as u64) * self.inv_sqrt_m[i]
+                start_value(i as u64, 7 + 1000 * attempt + j as u64) * self.inv_sqrt_m[i]
             });
-            if let Some((values, vectors, iters)) = super::block::refine(
+            let Some((values, vectors, iters)) = super::block::refine(
                 &self.factor,
                 &self.mass,
                 &self.potential,
                 self.sigma,
                 x0.as_ref(),
                 nev,
-                self.params.tol,
-                300,
-            )? {
+                cold_target(self.params.tol),
+                self.params.max_cold_iter,
+            )?
+            else {
+                return Err(Error::Numerical(format!(
+                    "the eigensolver did not converge in {} block iterations \
+                     ({nev} eigenpairs, {n} vertices)",
+                    self.params.max_cold_iter
+                )));
+            };
+            let mut lam = values.clone();
+            lam.sort_by(f64::total_cmp);
+            missing = self.missing_below_kth(&lam, cold_target(self.params.tol));
+            if missing == 0 {
                 return Ok((
                     values[..nev].to_vec(),
                     vectors.as_ref().subcols(0, nev).to_owned(),
                     iters,
                 ));
             }
+            p = (p + 2 * missing).min(n - 1);
         }
-        let v0 = Col::from_fn(n, |i| start_value(i as u64, 0) * self.sqrt_m[i]);
-        let (mut thetas, mut y) = self.krylov_schur(v0.as_ref(), nev, None)?;
-        let mut rounds = 0;
-        for round in 1..=4u64 {
-            let mut lam: Vec<f64> = thetas.iter().map(|t| self.sigma + 1.0 / t).collect();
-            lam.sort_by(f64::total_cmp);
-            let mu = inertia_cut(&lam, k, self.sigma);
-            let found = lam.iter().filter(|&&l| l < mu).count();
-            let Some(below) = self.eigenvalues_below(mu) else {
-                break;
-            };
-            if below <= found {
-                break;
-            }
-            rounds = round as usize;
-            let missing = below - found;
-            let v1 = Col::from_fn(n, |i| start_value(i as u64, round) * self.sqrt_m[i]);
-            let extra_nev = (missing + self.guards()).min(n.saturating_sub(y.ncols() + 70));
-            if extra_nev == 0 {
-                break;
-            }
-            let (t2, y2) = self.krylov_schur(v1.as_ref(), extra_nev, Some(y.as_ref()))?;
-            thetas.extend_from_slice(&t2);
-            let mut merged = Mat::<f64>::zeros(n, y.ncols() + y2.ncols());
-            merged.as_mut().subcols_mut(0, y.ncols()).copy_from(&y);
-            merged
-                .as_mut()
-                .subcols_mut(y.ncols(), y2.ncols())
-                .copy_from(&y2);
-            y = merged;
-        }
-        let mut order: Vec<usize> = (0..thetas.len()).collect();
-        order.sort_by(|&a, &b| thetas[b].total_cmp(&thetas[a]));
-        order.truncate(nev);
-        let values: Vec<f64> = order
-            .iter()
-            .map(|&j| self.sigma + 1.0 / thetas[j])
-            .collect();
-        let vectors = Mat::from_fn(n, nev, |i, j| y[(i, order[j])] * self.inv_sqrt_m[i]);
-        Ok((values, vectors, rounds))
+        Err(Error::Numerical(format!(
+            "the eigensolver missed {missing} of the {k} smallest eigenvalues after three \
+             attempts (Sylvester inertia check, {n} vertices)"
+        )))
     }
 
     fn warm(&mut self) -> Result<Option<Spectrum>> {
@@ -387,7 +367,7 @@ impl HamiltonianSolver {
             self.sigma,
             x0.as_ref(),
             k,
-            self.params.tol,
+            residual_bound(self.params.tol),
             self.params.max_iter,
         )?;
         let Some((values, vectors, iters)) = out else {
@@ -396,14 +376,10 @@ impl HamiltonianSolver {
         // Sylvester check: from eigenvectors of a different potential, the block can converge
         // to eigenpairs that are not the smallest (e.g. when a well opens where the old
         // vectors have no support, the new low eigenvalues are missed and the Ritz values sit
-        // on the walls). The number of negative pivots of $H - \mu M$, $\mu$ a hair above
-        // $\lambda_k$, must not exceed the eigenvalues found below $\mu$; else solve cold.
+        // on the walls). Any eigenvalue missed below the k-th (inertia) -> solve cold.
         let mut lam = values.clone();
         lam.sort_by(f64::total_cmp);
-        let mu = lam[k - 1] + 1e-6 * (lam[k - 1].abs() + self.sigma.abs());
-        let found = lam.iter().filter(|&&l| l < mu).count();
-        if self.eigenvalues_below(mu).is_some_and(|below| below > found)
-        {
+        if self.missing_below_kth(&lam, residual_bound(self.params.tol)) > 0 {
             self.missed_solves += 1;
             return Ok(None);
         }
@@ -419,55 +395,6 @@ impl HamiltonianSolver {
         }
         self.block = Some((values, vectors));
         Ok(Some(spec))
-    }
-
-    /// Krylov-Schur on $S = D K^{-1} D$ (deflated by the orthonormal columns of `deflate`):
-    /// the `k` largest $\theta$ (descending) and their orthonormal $y$.
-    fn krylov_schur(
-        &self,
-        v0: faer::ColRef<'_, f64>,
-        k: usize,
-        deflate: Option<MatRef<'_, f64>>,
-    ) -> Result<(Vec<f64>, Mat<f64>)> {
-        let n = self.n();
-        let op = ShiftInvert {
-            factor: &self.factor,
-            sqrt_m: &self.sqrt_m,
-            deflate,
-        };
-        let mut kp = PartialEigenParams::default();
-        kp.max_restarts = self.params.max_restarts;
-        kp.min_dim = (k + k / 2).max(32);
-        kp.max_dim = (2 * kp.min_dim).max(64);
-        // The Krylov space must be smaller than n (faer panics otherwise).
-        if kp.max_dim >= n {
-            kp.max_dim = n - 1;
-            kp.min_dim = kp.min_dim.min(kp.max_dim - 1);
-        }
-        let req = partial_self_adjoint_eigen_scratch::<f64>(&op, k, Par::Seq, kp);
-        let mut mem =
-            MemBuffer::try_new(req).map_err(|_| Error::Numerical("out of memory".into()))?;
-        let mut y = Mat::<f64>::zeros(n, k);
-        let mut thetas = vec![0.0; k];
-        // Absolute tolerance on the residual of theta: theta_max <= 1/|sigma|.
-        let tol = self.params.tol / self.sigma.abs();
-        let info = partial_self_adjoint_eigen(
-            y.as_mut(),
-            &mut thetas,
-            &op,
-            v0,
-            tol,
-            Par::Seq,
-            MemStack::new(&mut mem),
-            kp,
-        );
-        if info.n_converged_eigen < k {
-            return Err(Error::Numerical(format!(
-                "Krylov-Schur found {} of {k} eigenpairs in {} restarts",
-                info.n_converged_eigen, self.params.max_restarts
-            )));
-        }
-        Ok((thetas, y))
     }
 
     /// Sort, fix signs, measure residuals.
@@ -536,6 +463,12 @@ impl HamiltonianSolver {
     }
 }
 
+/// The relative residual a cold solve is converged to for a tolerance `tol` (one-off solves:
+/// near the accuracy of the former Krylov-Schur, at a few more block iterations).
+fn cold_target(tol: f64) -> f64 {
+    (100.0 * tol).max(1e-13)
+}
+
 /// The residual reported as converged for a tolerance `tol` (the solvers control the
 /// residual of the transformed problem; the pencil residual may be a little larger).
 pub(crate) fn residual_bound(tol: f64) -> f64 {
@@ -553,83 +486,18 @@ pub(crate) fn start_value(i: u64, stream: u64) -> f64 {
     (z >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
 }
 
-/// $S = D K^{-1} D$ as a faer linear operator.
-#[derive(Debug)]
-struct ShiftInvert<'a> {
-    factor: &'a ShiftedFactor,
-    sqrt_m: &'a [f64],
-    deflate: Option<MatRef<'a, f64>>,
+/// The inertia cut for the `k`-th of the ascending `lam`: a hair below the lowest member of
+/// its cluster (the values chained to $\lambda_k$ by gaps under a hair). The hair is the
+/// eigenvalue error bound of the solve, $\max(\text{accuracy}, 10^{-8})\,(|\lambda_k| +
+/// |\sigma|)$ (a relative residual $r$ puts a true eigenvalue within $r(|\lambda| + |\sigma|)$
+/// of $\lambda$), so every eigenvalue below the cut has its computed value below it too, and
+/// one between the cut and $\lambda_k$ equals $\lambda_k$ to the solve's accuracy.
+fn inertia_cut(lam: &[f64], k: usize, accuracy: f64, sigma: f64) -> f64 {
+    let hair = accuracy.max(1e-8) * (lam[k - 1].abs() + sigma.abs());
+    let mut j = k - 1;
+    while j > 0 && lam[j] - lam[j - 1] < hair {
+        j -= 1;
+    }
+    lam[j] - hair
 }
 
-/// `x <- (I - Y Y^T) x`.
-fn project_out(y: MatRef<'_, f64>, mut x: MatMut<'_, f64>) {
-    let mut c = Mat::<f64>::zeros(y.ncols(), x.ncols());
-    faer::linalg::matmul::matmul(
-        c.as_mut(),
-        faer::Accum::Replace,
-        y.transpose(),
-        x.rb(),
-        1.0,
-        Par::Seq,
-    );
-    faer::linalg::matmul::matmul(x.rb_mut(), faer::Accum::Add, y, c.as_ref(), -1.0, Par::Seq);
-}
-
-/// A shift $\mu$ just above the cluster of the `k`-th smallest of the ascending `lam`: half way
-/// to the next larger value (or a relative hair above when there is none).
-fn inertia_cut(lam: &[f64], k: usize, sigma: f64) -> f64 {
-    let lk = lam[k - 1];
-    let hair = 1e-8 * (lk.abs() + sigma.abs());
-    match lam[k..].iter().find(|&&l| l > lk + hair) {
-        Some(&next) => 0.5 * (lam.iter().copied().filter(|&l| l < next).fold(lk, f64::max) + next),
-        None => lk + hair,
-    }
-}
-
-impl LinOp<f64> for ShiftInvert<'_> {
-    fn apply_scratch(&self, rhs_ncols: usize, _par: Par) -> StackReq {
-        self.factor.solve_scratch(rhs_ncols)
-    }
-    fn nrows(&self) -> usize {
-        self.factor.n()
-    }
-    fn ncols(&self) -> usize {
-        self.factor.n()
-    }
-    fn apply(
-        &self,
-        mut out: MatMut<'_, f64>,
-        rhs: MatRef<'_, f64>,
-        _par: Par,
-        stack: &mut MemStack,
-    ) {
-        let n = self.factor.n();
-        out.copy_from(rhs);
-        if let Some(y) = self.deflate {
-            project_out(y, out.rb_mut());
-        }
-        for c in 0..rhs.ncols() {
-            for i in 0..n {
-                out[(i, c)] *= self.sqrt_m[i];
-            }
-        }
-        self.factor.solve_in_place(out.rb_mut(), stack);
-        for c in 0..rhs.ncols() {
-            for i in 0..n {
-                out[(i, c)] *= self.sqrt_m[i];
-            }
-        }
-        if let Some(y) = self.deflate {
-            project_out(y, out.rb_mut());
-        }
-    }
-    fn conj_apply(
-        &self,
-        out: MatMut<'_, f64>,
-        rhs: MatRef<'_, f64>,
-        par: Par,
-        stack: &mut MemStack,
-    ) {
-        self.apply(out, rhs, par, stack)
-    }
-}

@@ -7,12 +7,12 @@ use faer::Mat;
 pub struct EigenParams {
     /// Number $k$ of smallest eigenpairs wanted (`1 <= k < n`).
     pub k: usize,
-    /// Convergence tolerance, relative: an eigenpair is accepted when the Lanczos / block
+    /// Convergence tolerance, relative: an eigenpair is accepted when the block
     /// residual of the shift-inverted operator is below `tol` times its largest eigenvalue.
     /// The achieved residual of the pencil is reported in [`EigenInfo::max_residual`].
     pub tol: f64,
-    /// Maximum number of Krylov-Schur restarts of a cold solve.
-    pub max_restarts: usize,
+    /// Maximum number of block iterations of a cold solve (an error beyond it).
+    pub max_cold_iter: usize,
     /// Maximum number of block iterations of a warm re-solve before falling back to a cold solve.
     pub max_iter: usize,
     /// Shift $\sigma < 0$ of the shift-invert transform. `None`: $\sigma = -1 / \sum_j m_j$
@@ -28,7 +28,7 @@ impl Default for EigenParams {
         EigenParams {
             k: 20,
             tol: 1e-10,
-            max_restarts: 1000,
+            max_cold_iter: 300,
             max_iter: 30,
             shift: None,
             warm_start: true,
@@ -41,8 +41,7 @@ impl Default for EigenParams {
 pub struct EigenInfo {
     /// All `k` pairs met the tolerance.
     pub converged: bool,
-    /// Cold solve: extra deflated Krylov-Schur rounds triggered by the inertia check (0 unless an
-    /// exactly repeated eigenvalue was split by the cut). Warm solve: LOBPCG iterations.
+    /// LOBPCG iterations (0 for the dense path of small pencils).
     pub iterations: usize,
     /// $\max_i \lVert H\phi_i - \lambda_i M\phi_i \rVert_{M^{-1}} / (|\lambda_i| + |\sigma|)$ with
     /// $H$ the operator of the pencil and $\sigma$ the shift: a relative backward error
