@@ -60,6 +60,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     o.resolution = env("DS_RES", o.resolution);
     o.centers = env("DS_CENTERS", o.centers);
     o.max_iterations = env("DS_ITERS", o.max_iterations);
+    o.extra_iterations = env("DS_EXTRA", o.extra_iterations);
     o.finalists = env("DS_FINALISTS", o.finalists);
     o.descriptor_start = env("DS_DESC_START", 0) != 0;
     match env("DS_SELECTION", String::new()).as_str() {

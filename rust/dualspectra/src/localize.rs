@@ -66,6 +66,10 @@ pub struct Options {
     /// SHREC'16 pairs (shape_3, shape_8: symmetry-aware IoU 0.673 vs 0.661, best start 0.744 vs
     /// 0.742) in ~60% of the time.
     pub max_iterations: usize,
+    /// Further trust-region iterations for the starts still converging after
+    /// `max_iterations` (cost down by more than 10% over their last 10 iterations; in practice
+    /// the bump starts, which begin far from any spectrum). 0: none.
+    pub extra_iterations: usize,
     /// Successive halving of the starts: all starts run `max_iterations / 8` iterations, then
     /// the better half (by cost) continues to `/4`, then to `/2`, then to the end; a round never
     /// keeps fewer than `finalists` starts; each kind of start (wells, bumps) is ranked
@@ -140,6 +144,7 @@ impl Default for Options {
             resolution: 1000,
             centers: 4,
             max_iterations: 50,
+            extra_iterations: 0,
             finalists: 0,
             descriptor_start: false,
             threads: 0,

@@ -211,7 +211,8 @@ pub(crate) fn run(
     let t0 = Instant::now();
     let rounds = halving_rounds(options.max_iterations, options.finalists);
     let iterations_done = AtomicUsize::new(0);
-    let total_iterations = halving_total(&starts, n_given, &rounds, options.finalists);
+    let total_iterations = halving_total(&starts, n_given, &rounds, options.finalists)
+        + halving_survivors(&starts, n_given, &rounds, options.finalists) * options.extra_iterations;
     let worker_progress = Progress::none().with_cancel_flag(progress.cancel_flag());
     // One pool (`options.threads`, 0 = all cores) for the optimisation and the selection.
     let workers = rayon::ThreadPoolBuilder::new()
@@ -228,6 +229,7 @@ pub(crate) fn run(
                     n_given,
                     &rounds,
                     options.finalists,
+                    options.extra_iterations,
                     &worker_progress,
                     &iterations_done,
                 )
@@ -460,7 +462,16 @@ struct Run<'a> {
     delta: Option<f64>,
     alive: bool,
     failed: Option<Error>,
+    /// The run's cost fell by more than [`STILL_IMPROVING`] over its last
+    /// [`IMPROVEMENT_WINDOW`] iterations (it gets the extra iterations).
+    improving: bool,
 }
+
+/// Iterations over which a run's recent improvement is measured.
+const IMPROVEMENT_WINDOW: usize = 10;
+/// A run whose cost fell below this fraction of its value [`IMPROVEMENT_WINDOW`] iterations
+/// earlier is still converging.
+const STILL_IMPROVING: f64 = 0.9;
 
 /// Run the `rounds` over all `starts` (each round in parallel), then the per-start outcome.
 /// After each round, each family of starts keeps its better half (by cost, ties by index),
@@ -472,6 +483,7 @@ fn optimise_starts(
     protected: usize,
     rounds: &[usize],
     finalists: usize,
+    extra_iterations: usize,
     progress: &Progress,
     iterations_done: &AtomicUsize,
 ) -> Result<Vec<Result<StartOutcome>>> {
@@ -488,6 +500,7 @@ fn optimise_starts(
                 delta: None,
                 alive: true,
                 failed: None,
+                improving: false,
             })
         })
         .collect::<Result<_>>()?;
@@ -506,6 +519,20 @@ fn optimise_starts(
         }
         runs.par_iter_mut().filter(|run| run.alive).for_each(|run| {
             if let Err(e) = advance(run, iterations, progress, iterations_done) {
+                run.alive = false;
+                run.fx = f64::INFINITY;
+                run.failed = Some(e);
+            }
+        });
+        progress.check()?;
+    }
+    // Runs still converging (costs still falling fast: in practice the bump starts, which
+    // begin far from any spectrum) get `extra_iterations` more; the others are credited.
+    if extra_iterations > 0 {
+        runs.par_iter_mut().filter(|run| run.alive).for_each(|run| {
+            if !run.improving {
+                iterations_done.fetch_add(extra_iterations, Ordering::Relaxed);
+            } else if let Err(e) = advance(run, extra_iterations, progress, iterations_done) {
                 run.alive = false;
                 run.fx = f64::INFINITY;
                 run.failed = Some(e);
@@ -533,9 +560,8 @@ fn family_plan(starts: &[Start], protected: usize, finalists: usize) -> (Vec<&'s
     (families, keep_min)
 }
 
-/// Total iterations the halving runs (for the progress bar; exact unless a start fails or
-/// converges early, which is credited as if it ran).
-fn halving_total(starts: &[Start], protected: usize, rounds: &[usize], finalists: usize) -> usize {
+/// Starts alive after each round of the halving (protected ones included).
+fn halving_alive(starts: &[Start], protected: usize, rounds: &[usize], finalists: usize) -> Vec<usize> {
     let (fams, keep_min) = family_plan(starts, protected, finalists);
     let mut alive: Vec<usize> = fams
         .iter()
@@ -546,14 +572,26 @@ fn halving_total(starts: &[Start], protected: usize, rounds: &[usize], finalists
                 .count()
         })
         .collect();
-    let mut total = 0;
-    for (r, &it) in rounds.iter().enumerate() {
-        if r > 0 {
-            alive.iter_mut().for_each(|a| *a = survivors(*a, keep_min));
-        }
-        total += (protected + alive.iter().sum::<usize>()) * it;
-    }
-    total
+    (0..rounds.len())
+        .map(|r| {
+            if r > 0 {
+                alive.iter_mut().for_each(|a| *a = survivors(*a, keep_min));
+            }
+            protected + alive.iter().sum::<usize>()
+        })
+        .collect()
+}
+
+/// Total iterations the halving runs (for the progress bar; exact unless a start fails or
+/// converges early, which is credited as if it ran).
+fn halving_total(starts: &[Start], protected: usize, rounds: &[usize], finalists: usize) -> usize {
+    let alive = halving_alive(starts, protected, rounds, finalists);
+    alive.iter().zip(rounds).map(|(a, it)| a * it).sum()
+}
+
+/// Starts that run to the end of the halving.
+fn halving_survivors(starts: &[Start], protected: usize, rounds: &[usize], finalists: usize) -> usize {
+    halving_alive(starts, protected, rounds, finalists).last().copied().unwrap_or(0)
 }
 
 /// `iterations` more trust-region iterations of `run`, resuming with its trust radius.
@@ -584,6 +622,9 @@ fn advance(
     )?;
     // Credit skipped iterations (converged early) so the progress bar reaches the end.
     iterations_done.fetch_add(iterations.saturating_sub(last_iter), Ordering::Relaxed);
+    let h = &info.history;
+    run.improving = h.len() > IMPROVEMENT_WINDOW
+        && info.cost < STILL_IMPROVING * h[h.len() - 1 - IMPROVEMENT_WINDOW];
     run.w = w;
     run.fx = info.cost;
     run.iterations += info.iterations;

@@ -183,3 +183,33 @@ fn halving_keeps_finalists_and_given_regions() {
     assert!(matches!(err, Err(Error::InvalidArgument(_))), "{err:?}");
 }
 
+
+/// Extra iterations go only to the starts still converging (cost down by > 10% over their
+/// last 10 iterations), at most `extra_iterations` more; the others stop at `max_iterations`.
+#[test]
+fn extra_iterations_go_to_the_starts_still_converging() {
+    let full = bumpy_sphere(3);
+    let (part, truth) = cut(&full, |p| p[2] > 0.1);
+    let base = quick();
+    let more = Options { extra_iterations: 20, ..base.clone() };
+    let m = base.max_iterations;
+    let a = localize(&full, &part, &base, &Progress::none()).unwrap();
+    let b = localize(&full, &part, &more, &Progress::none()).unwrap();
+    let mut extended = 0;
+    for (ca, cb) in a.candidates.iter().zip(&b.candidates) {
+        assert_eq!(ca.label, cb.label);
+        assert!(cb.iterations <= m + 20, "{}: {} iterations", cb.label, cb.iterations);
+        if ca.iterations < m {
+            // Converged before the budget: nothing to extend.
+            assert_eq!(ca.iterations, cb.iterations, "{}", cb.label);
+        } else if cb.iterations > m {
+            extended += 1;
+            assert!(cb.cost <= ca.cost, "{}: cost {} -> {}", cb.label, ca.cost, cb.cost);
+        } else {
+            assert_eq!(ca.cost, cb.cost, "{}: not extended, same run", cb.label);
+        }
+    }
+    assert!(extended > 0, "no start was still converging after {m} iterations");
+    assert!(extended < b.candidates.len(), "every start was extended");
+    assert!(iou(&b.region, &truth) > 0.9, "IoU {}", iou(&b.region, &truth));
+}

@@ -286,6 +286,33 @@ fn warm_resolve_after_the_well_moved_matches_cold() {
     );
 }
 
+/// The inertia check is skipped only for moves below a tenth of the guard gap (a
+/// finite-difference step of the trust region), and the skipped solves still equal cold ones;
+/// a move of the well by a few vertices is checked.
+#[test]
+fn tiny_moves_skip_the_inertia_check_and_still_match_cold() {
+    let mesh = icosphere(4);
+    let (w, m) = (cotangent_stiffness(&mesh), lumped_mass(&mesh));
+    let tau = 1e4;
+    let well = |z0: f64, scale: f64| -> Vec<f64> {
+        mesh.vertices()
+            .iter()
+            .map(|p| tau * scale / (1.0 + (-(z0 - p[2]) * 8.0).exp()))
+            .collect()
+    };
+    let mut solver = HamiltonianSolver::new(&w, &m, params(10)).unwrap();
+    solver.solve(&well(0.5, 1.0)).unwrap();
+    let tiny = well(0.5, 1.0 + 2f64.powi(-14));
+    let warm = solver.solve(&tiny).unwrap().clone();
+    assert_eq!(solver.unchecked_solves(), 1, "a 6e-5 relative move should skip the check");
+    let cold = HamiltonianSolver::new(&w, &m, params(10)).unwrap().solve_cold(&tiny).unwrap().clone();
+    for (a, b) in warm.values.iter().zip(&cold.values) {
+        assert!((a - b).abs() <= 1e-8 * b.abs(), "warm {a} vs cold {b}");
+    }
+    solver.solve(&well(0.3, 1.0)).unwrap();
+    assert_eq!(solver.unchecked_solves(), 1, "a moved well must be checked");
+}
+
 #[test]
 fn hamiltonian_with_large_potential_localises() {
     // v = 0 on a cap, high elsewhere: the eigenvalues exceed those of the free sphere and stay

@@ -58,6 +58,10 @@ pub struct LocalizeOptions {
     /// Trust-region iterations per start [default: the library's, 50].
     #[arg(long, value_name = "N")]
     pub iterations: Option<usize>,
+    /// Further trust-region iterations for the starts whose cost still fell by more than 10%
+    /// over their last 10 iterations; 0 = none [default: the library's].
+    #[arg(long, value_name = "N")]
+    pub extra_iterations: Option<usize>,
     /// Vertices of the decimated full shape the potential is optimised on; 0 = no decimation
     /// [default: the library's].
     #[arg(long, value_name = "N")]
@@ -99,6 +103,9 @@ impl LocalizeOptions {
         }
         if let Some(f) = self.finalists {
             o.finalists = f;
+        }
+        if let Some(e) = self.extra_iterations {
+            o.extra_iterations = e;
         }
         if let Some(a) = self.alpha {
             if !a.is_finite() {
