@@ -212,7 +212,8 @@ pub(crate) fn run(
     let rounds = halving_rounds(options.max_iterations, options.finalists);
     let iterations_done = AtomicUsize::new(0);
     let total_iterations = halving_total(&starts, n_given, &rounds, options.finalists)
-        + halving_survivors(&starts, n_given, &rounds, options.finalists) * options.extra_iterations;
+        + halving_survivors(&starts, n_given, &rounds, options.finalists)
+            * options.extra_iterations;
     let worker_progress = Progress::none().with_cancel_flag(progress.cancel_flag());
     // One pool (`options.threads`, 0 = all cores) for the optimisation and the selection.
     let workers = rayon::ThreadPoolBuilder::new()
@@ -561,7 +562,12 @@ fn family_plan(starts: &[Start], protected: usize, finalists: usize) -> (Vec<&'s
 }
 
 /// Starts alive after each round of the halving (protected ones included).
-fn halving_alive(starts: &[Start], protected: usize, rounds: &[usize], finalists: usize) -> Vec<usize> {
+fn halving_alive(
+    starts: &[Start],
+    protected: usize,
+    rounds: &[usize],
+    finalists: usize,
+) -> Vec<usize> {
     let (fams, keep_min) = family_plan(starts, protected, finalists);
     let mut alive: Vec<usize> = fams
         .iter()
@@ -590,8 +596,16 @@ fn halving_total(starts: &[Start], protected: usize, rounds: &[usize], finalists
 }
 
 /// Starts that run to the end of the halving.
-fn halving_survivors(starts: &[Start], protected: usize, rounds: &[usize], finalists: usize) -> usize {
-    halving_alive(starts, protected, rounds, finalists).last().copied().unwrap_or(0)
+fn halving_survivors(
+    starts: &[Start],
+    protected: usize,
+    rounds: &[usize],
+    finalists: usize,
+) -> usize {
+    halving_alive(starts, protected, rounds, finalists)
+        .last()
+        .copied()
+        .unwrap_or(0)
 }
 
 /// `iterations` more trust-region iterations of `run`, resuming with its trust radius.

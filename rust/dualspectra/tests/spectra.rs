@@ -304,8 +304,16 @@ fn tiny_moves_skip_the_inertia_check_and_still_match_cold() {
     solver.solve(&well(0.5, 1.0)).unwrap();
     let tiny = well(0.5, 1.0 + 2f64.powi(-14));
     let warm = solver.solve(&tiny).unwrap().clone();
-    assert_eq!(solver.unchecked_solves(), 1, "a 6e-5 relative move should skip the check");
-    let cold = HamiltonianSolver::new(&w, &m, params(10)).unwrap().solve_cold(&tiny).unwrap().clone();
+    assert_eq!(
+        solver.unchecked_solves(),
+        1,
+        "a 6e-5 relative move should skip the check"
+    );
+    let cold = HamiltonianSolver::new(&w, &m, params(10))
+        .unwrap()
+        .solve_cold(&tiny)
+        .unwrap()
+        .clone();
     for (a, b) in warm.values.iter().zip(&cold.values) {
         assert!((a - b).abs() <= 1e-8 * b.abs(), "warm {a} vs cold {b}");
     }

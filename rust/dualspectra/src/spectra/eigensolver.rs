@@ -30,7 +30,6 @@ use faer::{Mat, MatRef};
 /// Below this size (or `3 k`), the dense fallback is used.
 const DENSE_MAX: usize = 200;
 
-
 /// The $k$ smallest eigenpairs of $W\phi = \lambda\,\mathrm{diag}(m)\,\phi$.
 ///
 /// `w`: `n x n` symmetric positive semi-definite (already Dirichlet-restricted by the caller),
@@ -288,8 +287,15 @@ impl HamiltonianSolver {
     fn missing_below_kth(&self, lam: &[f64], accuracy: f64) -> usize {
         let mu = inertia_cut(lam, self.params.k, accuracy, self.sigma);
         let found = lam.iter().filter(|&&l| l < mu).count();
-        let d: Vec<f64> = self.mass.iter().zip(&self.potential).map(|(m, v)| m * (v - mu)).collect();
-        self.factor.count_negative(&d).map_or(0, |below| below.saturating_sub(found))
+        let d: Vec<f64> = self
+            .mass
+            .iter()
+            .zip(&self.potential)
+            .map(|(m, v)| m * (v - mu))
+            .collect();
+        self.factor
+            .count_negative(&d)
+            .map_or(0, |below| below.saturating_sub(found))
     }
 
     /// Number of guard vectors carried beyond the `k` wanted.
@@ -402,7 +408,12 @@ impl HamiltonianSolver {
         // This spares the check (one more factorisation) on the trust region's
         // finite-difference Hessian-vector evaluations.
         let near_checked = self.checked.as_ref().is_some_and(|(v0, gap)| {
-            let dv = self.potential.iter().zip(v0).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+            let dv = self
+                .potential
+                .iter()
+                .zip(v0)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
             dv <= 0.1 * gap
         });
         let mut lam = values.clone();
@@ -541,4 +552,3 @@ fn inertia_cut(lam: &[f64], k: usize, accuracy: f64, sigma: f64) -> f64 {
     }
     lam[j] - hair
 }
-
