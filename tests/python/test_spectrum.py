@@ -4,7 +4,7 @@ Reference: ``eigsh(-L[I,I], M=M[I,I], sigma<0, tol=0)`` with L = ``igl.cotmatrix
 ``igl.massmatrix`` (barycentric), I the interior vertices (all boundary loops removed:
 homogeneous Dirichlet conditions; the cat has two loops, which ``igl.boundary_loop`` alone
 would miss). The matrices agree to ~1e-14 (test_operators), so the eigenvalues differ only
-by the two solvers' convergence: ARPACK at machine precision, the core's Krylov-Schur at
+by the two solvers' convergence: ARPACK at machine precision, the core's block LOBPCG at
 its residual tolerance. ``1e-6`` relative is the accuracy the localizer needs from a
 spectrum (its cost compares eigenvalues relatively) with margin for that tolerance.
 """
