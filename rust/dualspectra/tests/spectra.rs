@@ -91,6 +91,15 @@ fn sphere_exact(k: usize) -> Vec<f64> {
     out
 }
 
+/// $\max_i |a_i - b_i| / \max(b_i, 1)$ over the common length.
+fn max_rel_error(values: &[f64], exact: &[f64]) -> f64 {
+    values
+        .iter()
+        .zip(exact)
+        .map(|(a, b)| (a - b).abs() / b.max(1.0))
+        .fold(0.0, f64::max)
+}
+
 #[test]
 fn residual_and_orthonormality_sphere() {
     let (w, m) = sphere(3);
@@ -130,12 +139,7 @@ fn sphere_converges_to_l_l_plus_1_with_multiplicity() {
             assert!(spread < 0.1 * gap, "level {level}, l = {l}: cluster {cl:?}");
             start += mult;
         }
-        let err = s
-            .values
-            .iter()
-            .zip(&exact)
-            .map(|(a, b)| (a - b).abs() / b.max(1.0))
-            .fold(0.0, f64::max);
+        let err = max_rel_error(&s.values, &exact);
         assert!(
             err < prev_err,
             "level {level}: error {err:e} did not shrink from {prev_err:e}"
@@ -165,12 +169,7 @@ fn every_k_on_the_icosphere_matches_a_dense_eigendecomposition() {
     for k in 1..=60 {
         let s = generalized_eigen(&w, &m, &params(k)).unwrap();
         assert!(s.info.converged, "k = {k}: {:?}", s.info);
-        let err = s
-            .values
-            .iter()
-            .zip(&exact)
-            .map(|(a, b)| (a - b).abs() / b.max(1.0))
-            .fold(0.0, f64::max);
+        let err = max_rel_error(&s.values, &exact);
         assert!(err < 1e-9, "k = {k}: relative error {err:e}");
     }
 }
