@@ -3,7 +3,8 @@
 //!
 //! `cargo run --release --example 401_localize_shrec -- DATASET [STRIDE] [OFFSET]`
 //! Options from the environment: DS_MODE, DS_K, DS_RES, DS_CENTERS, DS_ITERS, DS_FINALISTS,
-//! DS_SELECTION (gated, region, descriptors, cost), DS_DESC_START=1 (descriptor start);
+//! DS_SELECTION (gated, region, descriptors, cost), DS_DESC_START=1 (descriptor start),
+//! DS_HESSIAN (finite-difference, gauss-newton), DS_EXTRA;
 //! DS_VERBOSE lists every start (`*`: finalist).
 
 use dualspectra::evaluation::datasets::Shrec16;
@@ -69,6 +70,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "region" => o.selection = Selection::Region,
         "gated" => o.selection = Selection::Gated,
         _ => {}
+    }
+    if let Ok(h) = std::env::var("DS_HESSIAN") {
+        o.hessian = serde_json::from_value(serde_json::Value::String(h))?;
     }
     let data = Shrec16::open(root)?;
     let pairs = data.pairs()?;

@@ -1,5 +1,6 @@
 //! The one-call API: find the region of a full mesh that a partial mesh is.
 
+pub use crate::alignment::cost::HessianModel;
 use crate::error::{Error, Result};
 use crate::mesh::TriMesh;
 use crate::progress::Progress;
@@ -89,6 +90,8 @@ pub struct Options {
     pub threads: usize,
     /// How the result is chosen among the optimised starts.
     pub selection: Selection,
+    /// The trust region's model Hessian.
+    pub hessian: HessianModel,
 }
 
 /// Rule choosing among the optimised starts.
@@ -149,6 +152,7 @@ impl Default for Options {
             descriptor_start: false,
             threads: 0,
             selection: Selection::Gated,
+            hessian: HessianModel::default(),
         }
     }
 }

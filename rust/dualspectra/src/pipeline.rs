@@ -5,7 +5,7 @@
 use crate::alignment::cost::{potential_from_w, AlignmentCost, SpectrumTerm};
 use crate::alignment::descriptor_start::descriptor_baseline_mask;
 use crate::alignment::starts::{farthest_point_samples, gaussian_starts, mask_start, Start};
-use crate::alignment::trust_region::{minimize, TrustRegionParams};
+use crate::alignment::trust_region::{minimize, HessianOperator, Point, TrustRegionParams};
 use crate::error::{Error, Result};
 use crate::localize::internal::{check_options, largest_component};
 use crate::localize::{Candidate, Localization, Mode, Options, Selection, StartOutcome, Timings};
@@ -229,8 +229,7 @@ pub(crate) fn run(
                     &starts,
                     n_given,
                     &rounds,
-                    options.finalists,
-                    options.extra_iterations,
+                    options,
                     &worker_progress,
                     &iterations_done,
                 )
@@ -476,15 +475,15 @@ const STILL_IMPROVING: f64 = 0.9;
 
 /// Run the `rounds` over all `starts` (each round in parallel), then the per-start outcome.
 /// After each round, each family of starts keeps its better half (by cost, ties by index),
-/// at least `finalists` in all; the first `protected` starts are never pruned. Deterministic.
+/// at least `options.finalists` in all; the first `protected` starts are never pruned; then
+/// `options.extra_iterations` for the runs still converging. Deterministic.
 fn optimise_starts(
     shape: &Shape,
     terms: &[SpectrumTerm],
     starts: &[Start],
     protected: usize,
     rounds: &[usize],
-    finalists: usize,
-    extra_iterations: usize,
+    options: &Options,
     progress: &Progress,
     iterations_done: &AtomicUsize,
 ) -> Result<Vec<Result<StartOutcome>>> {
@@ -494,7 +493,8 @@ fn optimise_starts(
         .map(|s| {
             Ok(Run {
                 label: s.label.clone(),
-                cost: AlignmentCost::new(shape, terms.to_vec())?,
+                cost: AlignmentCost::new(shape, terms.to_vec())?
+                    .with_hessian_model(options.hessian),
                 w: s.w0.clone(),
                 fx: f64::INFINITY,
                 iterations: 0,
@@ -505,6 +505,7 @@ fn optimise_starts(
             })
         })
         .collect::<Result<_>>()?;
+    let (finalists, extra_iterations) = (options.finalists, options.extra_iterations);
     let (families, keep_min) = family_plan(starts, protected, finalists);
     for (r, &iterations) in rounds.iter().enumerate() {
         if r > 0 {
@@ -624,7 +625,15 @@ fn advance(
     let cost = &mut run.cost;
     let mut last_iter = 0;
     let (w, info) = minimize(
-        |w| cost.evaluate(w).map(|e| (e.cost, e.gradient)),
+        |w| {
+            cost.evaluate(w).map(|e| Point {
+                cost: e.cost,
+                gradient: e.gradient,
+                hessian: e
+                    .hessian
+                    .map(|h| Box::new(move |eta: &[f64]| h.apply(eta)) as HessianOperator),
+            })
+        },
         std::mem::take(&mut run.w),
         &params,
         |iter, _| {

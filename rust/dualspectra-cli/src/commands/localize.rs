@@ -11,6 +11,7 @@
 use crate::error::CliError;
 use crate::input::read_input_mesh;
 use crate::output::{to_json_line, write_text};
+use dualspectra::localize::HessianModel;
 use dualspectra::{Localization, Mode, Options, Progress, Timings, TriMesh};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
@@ -33,6 +34,23 @@ impl From<ModeArg> for Mode {
             ModeArg::Dual => Mode::Dual,
             ModeArg::Lbo => Mode::Lbo,
             ModeArg::Si => Mode::Si,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum HessianArg {
+    /// Finite differences of the gradient (two eigensolves per inner step, as Manopt).
+    FiniteDifference,
+    /// Gauss-Newton model from the gradient's eigenpairs (no extra eigensolve).
+    GaussNewton,
+}
+
+impl From<HessianArg> for HessianModel {
+    fn from(h: HessianArg) -> HessianModel {
+        match h {
+            HessianArg::FiniteDifference => HessianModel::FiniteDifference,
+            HessianArg::GaussNewton => HessianModel::GaussNewton,
         }
     }
 }
@@ -71,6 +89,9 @@ pub struct LocalizeOptions {
     /// [default: the library's].
     #[arg(long, value_name = "N")]
     pub finalists: Option<usize>,
+    /// The trust region's model Hessian [default: the library's].
+    #[arg(long, value_enum, value_name = "MODEL")]
+    pub hessian: Option<HessianArg>,
 }
 
 impl LocalizeOptions {
@@ -106,6 +127,9 @@ impl LocalizeOptions {
         }
         if let Some(e) = self.extra_iterations {
             o.extra_iterations = e;
+        }
+        if let Some(h) = self.hessian {
+            o.hessian = h.into();
         }
         if let Some(a) = self.alpha {
             if !a.is_finite() {

@@ -1,7 +1,10 @@
-//! Riemannian trust-region method on Euclidean space, as Manopt's `trustregions` with no
-//! Hessian given (Absil, Baker, Gallivan 2007): the model Hessian is applied by finite
-//! differences of the gradient, $H\eta \approx (\nabla f(x + t\eta) - \nabla f(x))/t$ with
-//! $t = 2^{-14}/\|\eta\|$, and each subproblem is solved by Steihaug-Toint truncated CG.
+//! Riemannian trust-region method on Euclidean space, as Manopt's `trustregions` (Absil,
+//! Baker, Gallivan 2007); each subproblem is solved by Steihaug-Toint truncated CG. The model
+//! Hessian is the one the objective returns with its gradient ([`Point::hessian`], e.g. a
+//! Gauss-Newton model, no further evaluation) or, where it returns none, finite differences
+//! of the gradient as Manopt does when no Hessian is given,
+//! $H\eta \approx (\nabla f(x + t\eta) - \nabla f(x))/t$ with $t = 2^{-14}/\|\eta\|$ (one
+//! evaluation per inner iteration).
 //!
 //! Hand-written because the crates we looked at need an explicit Hessian matrix
 //! (`argmin`'s `TrustRegion` takes `Hessian` as a matrix type); here `n` is thousands and
@@ -65,6 +68,24 @@ pub struct TrustRegionInfo {
     pub delta: f64,
 }
 
+/// A model Hessian at a point, applied to a direction.
+pub type HessianOperator = Box<dyn Fn(&[f64]) -> Vec<f64> + Send>;
+
+/// The objective at one point: value, gradient and optionally a model Hessian there
+/// (`None`: finite differences of the gradient).
+pub struct Point {
+    pub cost: f64,
+    pub gradient: Vec<f64>,
+    pub hessian: Option<HessianOperator>,
+}
+
+impl Point {
+    /// Value and gradient only (the model Hessian by finite differences).
+    pub fn new(cost: f64, gradient: Vec<f64>) -> Self {
+        Point { cost, gradient, hessian: None }
+    }
+}
+
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
@@ -72,10 +93,10 @@ fn axpy(y: &mut [f64], a: f64, x: &[f64]) {
     y.iter_mut().zip(x).for_each(|(yi, xi)| *yi += a * xi);
 }
 
-/// Minimise `f` from `x0`. `f(x)` returns `(cost, gradient)`; `on_iteration(iter, cost)` is
+/// Minimise `f` from `x0`. `f(x)` returns the [`Point`] at `x`; `on_iteration(iter, cost)` is
 /// called after each outer step and may return `Err` (e.g. cancellation) or `Ok(false)` to stop.
 pub fn minimize(
-    mut f: impl FnMut(&[f64]) -> Result<(f64, Vec<f64>)>,
+    mut f: impl FnMut(&[f64]) -> Result<Point>,
     x0: Vec<f64>,
     params: &TrustRegionParams,
     mut on_iteration: impl FnMut(usize, f64) -> Result<bool>,
@@ -84,7 +105,7 @@ pub fn minimize(
     let delta_bar = params.delta_bar.unwrap_or((n as f64).sqrt());
     let mut delta = params.initial_delta.unwrap_or(delta_bar / 8.0).min(delta_bar);
     let mut x = x0;
-    let (mut fx, mut gx) = f(&x)?;
+    let Point { cost: mut fx, gradient: mut gx, hessian: mut hx } = f(&x)?;
     let mut info = TrustRegionInfo { evaluations: 1, ..Default::default() };
     info.stop_reason = "max iterations";
     for iter in 0..params.max_iterations {
@@ -97,7 +118,7 @@ pub fn minimize(
             info.stop_reason = "cost tolerance";
             break;
         }
-        if info.evaluations + 2 > params.max_evaluations {
+        if info.evaluations + if hx.is_some() { 1 } else { 2 } > params.max_evaluations {
             info.stop_reason = "evaluation budget";
             break;
         }
@@ -111,20 +132,28 @@ pub fn minimize(
         let mut e_pd = 0.0;
         let mut mdelta: Vec<f64> = r.iter().map(|v| -v).collect();
         let norm_r0 = z_r.sqrt();
-        let inner_budget = params.max_inner.min(params.max_evaluations.saturating_sub(info.evaluations + 1)).max(1);
+        let inner_budget = match hx {
+            Some(_) => params.max_inner,
+            None => params.max_inner.min(params.max_evaluations.saturating_sub(info.evaluations + 1)).max(1),
+        };
         let mut hit_boundary = false;
         for _ in 0..inner_budget {
-            // Finite-difference Hessian-vector product along mdelta.
             let nd = dot(&mdelta, &mdelta).sqrt();
             if nd == 0.0 {
                 break;
             }
-            let t = params.fd_step / nd;
-            let mut xt = x.clone();
-            axpy(&mut xt, t, &mdelta);
-            let (_, gt) = f(&xt)?;
-            info.evaluations += 1;
-            let h_d: Vec<f64> = gt.iter().zip(&gx).map(|(a, b)| (a - b) / t).collect();
+            let h_d: Vec<f64> = match &hx {
+                Some(h) => h(&mdelta),
+                None => {
+                    // Finite-difference Hessian-vector product along mdelta.
+                    let t = params.fd_step / nd;
+                    let mut xt = x.clone();
+                    axpy(&mut xt, t, &mdelta);
+                    let gt = f(&xt)?.gradient;
+                    info.evaluations += 1;
+                    gt.iter().zip(&gx).map(|(a, b)| (a - b) / t).collect()
+                }
+            };
             let d_hd = dot(&mdelta, &h_d);
             let alpha = z_r / d_hd;
             let e_pe_new = e_pe + 2.0 * alpha * e_pd + alpha * alpha * d_pd;
@@ -159,7 +188,7 @@ pub fn minimize(
         // --- Accept or reject.
         let mut x_prop = x.clone();
         axpy(&mut x_prop, 1.0, &eta);
-        let (f_prop, g_prop) = f(&x_prop)?;
+        let Point { cost: f_prop, gradient: g_prop, hessian: h_prop } = f(&x_prop)?;
         info.evaluations += 1;
         let model_decrease = -(dot(&gx, &eta) + 0.5 * dot(&eta, &h_eta));
         let rho_reg = f64::EPSILON.max(1e-3) * fx.abs().max(1.0);
@@ -174,6 +203,7 @@ pub fn minimize(
             x = x_prop;
             fx = f_prop;
             gx = g_prop;
+            hx = h_prop;
         }
         info.iterations = iter + 1;
         info.history.push(fx);
@@ -203,7 +233,7 @@ mod tests {
             let (a, b) = (x[0], x[1]);
             let f = (1.0 - a).powi(2) + 100.0 * (b - a * a).powi(2);
             let g = vec![-2.0 * (1.0 - a) - 400.0 * a * (b - a * a), 200.0 * (b - a * a)];
-            Ok((f, g))
+            Ok(Point::new(f, g))
         };
         let p = TrustRegionParams { max_iterations: 500, max_evaluations: 5000, ..Default::default() };
         let (x, info) = minimize(rosen, vec![-1.2, 1.0], &p, |_, _| Ok(true)).unwrap();
@@ -213,7 +243,7 @@ mod tests {
         let quad = |x: &[f64]| {
             let f: f64 = x.iter().enumerate().map(|(i, v)| (i + 1) as f64 * (v - 1.0).powi(2)).sum();
             let g = x.iter().enumerate().map(|(i, v)| 2.0 * (i + 1) as f64 * (v - 1.0)).collect();
-            Ok((f, g))
+            Ok(Point::new(f, g))
         };
         let p = TrustRegionParams { max_inner: 60, ..Default::default() };
         let (x, info) = minimize(quad, vec![0.0; n], &p, |_, _| Ok(true)).unwrap();
@@ -221,5 +251,23 @@ mod tests {
         assert!(x.iter().all(|v| (v - 1.0).abs() < 1e-5));
         // Monotone: accepted steps never increase the cost.
         assert!(info.history.windows(2).all(|w| w[1] <= w[0]));
+    }
+
+    /// With the exact Hessian supplied, every iteration costs one evaluation (no finite
+    /// differences) and Rosenbrock converges as well.
+    #[test]
+    fn a_supplied_hessian_costs_no_evaluations() {
+        let rosen = |x: &[f64]| {
+            let (a, b) = (x[0], x[1]);
+            let f = (1.0 - a).powi(2) + 100.0 * (b - a * a).powi(2);
+            let g = vec![-2.0 * (1.0 - a) - 400.0 * a * (b - a * a), 200.0 * (b - a * a)];
+            let (h11, h12, h22) = (2.0 - 400.0 * (b - 3.0 * a * a), -400.0 * a, 200.0);
+            let hessian: HessianOperator = Box::new(move |e: &[f64]| vec![h11 * e[0] + h12 * e[1], h12 * e[0] + h22 * e[1]]);
+            Ok(Point { cost: f, gradient: g, hessian: Some(hessian) })
+        };
+        let p = TrustRegionParams { max_iterations: 500, max_evaluations: 5000, ..Default::default() };
+        let (x, info) = minimize(rosen, vec![-1.2, 1.0], &p, |_, _| Ok(true)).unwrap();
+        assert!((x[0] - 1.0).abs() < 1e-6 && (x[1] - 1.0).abs() < 1e-6, "{x:?} {info:?}");
+        assert_eq!(info.evaluations, info.iterations + 1, "{info:?}");
     }
 }
