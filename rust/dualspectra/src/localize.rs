@@ -60,12 +60,12 @@ pub struct Options {
     /// is ~2.5x faster than 2,500 per evaluation and gave comparable regions on the dev pairs.
     pub resolution: usize,
     /// Farthest-point centres for the Gaussian starts (each gives 4 starts). The paper uses
-    /// 10 (40 starts); the default 4 (16 starts) takes ~22 s per SHREC'16 pair on 2 cores.
+    /// 10 (40 starts); the default 4 (16 starts) takes ~13 s per SHREC'16 pair on 2 cores.
     pub centers: usize,
     /// Trust-region iterations of a start that runs to the end. The reference uses 100; the
-    /// default 50 (~200 cost evaluations per start instead of ~330) chose regions as good on 16
-    /// SHREC'16 pairs (shape_3, shape_8: symmetry-aware IoU 0.673 vs 0.661, best start 0.744 vs
-    /// 0.742) in ~60% of the time.
+    /// default 50 (with the Gauss-Newton model, 51 cost evaluations per start) chose regions as
+    /// good on 16 SHREC'16 pairs (shape_3, shape_8: symmetry-aware IoU 0.726 with 50, 0.721
+    /// with 100; best start 0.748 and 0.750) in half the time.
     pub max_iterations: usize,
     /// Further trust-region iterations for the starts still converging after
     /// `max_iterations` (cost down by more than 10% over their last 10 iterations; in practice
@@ -90,7 +90,9 @@ pub struct Options {
     pub threads: usize,
     /// How the result is chosen among the optimised starts.
     pub selection: Selection,
-    /// The trust region's model Hessian.
+    /// The trust region's model Hessian: Gauss-Newton (default; one evaluation per
+    /// iteration) or finite differences (Manopt's, ~4 evaluations per iteration), see
+    /// [`HessianModel`].
     pub hessian: HessianModel,
 }
 

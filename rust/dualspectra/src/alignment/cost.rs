@@ -35,10 +35,12 @@ pub enum HessianModel {
     /// are accurate to ~1e-3, and after a step of $2^{-14}$ the old block often already
     /// passes. On the test shape of `tests/alignment.rs`, $\eta^\top H \eta$ from warm
     /// differences read 14.7 against an exact -29.0 (cold differences: -28.96).
-    #[default]
     FiniteDifference,
     /// The Gauss-Newton model plus the relaxation's curvature (module doc), built from the
     /// eigenpairs the gradient already needs: one evaluation per trust-region iteration.
+    /// The default: on all 80 SHREC'16 pairs (50 iterations, 16 starts) IoU 0.617 against
+    /// 0.535 (symmetry-aware 0.651 against 0.610) at a median 12.9 s per pair against 21.5 s.
+    #[default]
     GaussNewton,
 }
 
