@@ -128,7 +128,7 @@ impl<'a> AlignmentCost<'a> {
             solvers.push(HamiltonianSolver::new(shape.dirichlet_stiffness(), &mass, params)?);
             masses.push(mass);
         }
-        Ok(AlignmentCost { shape, terms, solvers, masses, hessian_model: HessianModel::FiniteDifference, evaluations: 0 })
+        Ok(AlignmentCost { shape, terms, solvers, masses, hessian_model: HessianModel::default(), evaluations: 0 })
     }
 
     /// The same cost, its evaluations carrying the given model Hessian.
