@@ -62,6 +62,9 @@ int main(int argc, char** argv) {
     OpenMesh::IO::Options wopt = OpenMesh::IO::Options::VertexColor;
     if (!OpenMesh::IO::write_mesh(full_om, args.output, wopt, 17))
       throw std::runtime_error("cannot write '" + args.output + "'");
+    // Indices and the count are OpenMesh's vertex handles: the file's vertex numbers, then the
+    // copies OpenMesh's reader appends to repair a non-manifold ("complex") vertex, some of
+    // whose originals may be left without faces (SHREC'16 cat: 10,000 in the file, more handles).
     if (!args.indices.empty()) {
       std::ofstream os(args.indices);
       for (auto vh : full_om.vertices())
@@ -70,7 +73,7 @@ int main(int argc, char** argv) {
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::printf("region: %zu of %zu vertices\ncost: %.6g\nselected start: %zu of %zu\nlocalize: %.2f s, total: %.2f s\nwrote %s\n",
-                n_region, full.mesh.n_vertices(), r.cost, r.selected_start, r.n_starts, r.timings.total, seconds,
+                n_region, static_cast<std::size_t>(full_om.n_vertices()), r.cost, r.selected_start, r.n_starts, r.timings.total, seconds,
                 args.output.c_str());
     return 0;
   } catch (const dualspectra::Error& e) {
