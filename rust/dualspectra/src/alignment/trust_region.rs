@@ -226,13 +226,20 @@ pub fn minimize(
 mod tests {
     use super::*;
 
+    /// Rosenbrock's function at `x`: value, gradient and Hessian (row-major 2 x 2).
+    fn rosenbrock(x: &[f64]) -> (f64, Vec<f64>, [f64; 4]) {
+        let (a, b) = (x[0], x[1]);
+        let f = (1.0 - a).powi(2) + 100.0 * (b - a * a).powi(2);
+        let g = vec![-2.0 * (1.0 - a) - 400.0 * a * (b - a * a), 200.0 * (b - a * a)];
+        let h = [2.0 - 400.0 * (b - 3.0 * a * a), -400.0 * a, -400.0 * a, 200.0];
+        (f, g, h)
+    }
+
     /// Rosenbrock in 2-D and a convex quadratic in 50-D reach their minima.
     #[test]
     fn minimises_rosenbrock_and_quadratic() {
         let rosen = |x: &[f64]| {
-            let (a, b) = (x[0], x[1]);
-            let f = (1.0 - a).powi(2) + 100.0 * (b - a * a).powi(2);
-            let g = vec![-2.0 * (1.0 - a) - 400.0 * a * (b - a * a), 200.0 * (b - a * a)];
+            let (f, g, _) = rosenbrock(x);
             Ok(Point::new(f, g))
         };
         let p = TrustRegionParams { max_iterations: 500, max_evaluations: 5000, ..Default::default() };
@@ -258,11 +265,8 @@ mod tests {
     #[test]
     fn a_supplied_hessian_costs_no_evaluations() {
         let rosen = |x: &[f64]| {
-            let (a, b) = (x[0], x[1]);
-            let f = (1.0 - a).powi(2) + 100.0 * (b - a * a).powi(2);
-            let g = vec![-2.0 * (1.0 - a) - 400.0 * a * (b - a * a), 200.0 * (b - a * a)];
-            let (h11, h12, h22) = (2.0 - 400.0 * (b - 3.0 * a * a), -400.0 * a, 200.0);
-            let hessian: HessianOperator = Box::new(move |e: &[f64]| vec![h11 * e[0] + h12 * e[1], h12 * e[0] + h22 * e[1]]);
+            let (f, g, h) = rosenbrock(x);
+            let hessian: HessianOperator = Box::new(move |e: &[f64]| vec![h[0] * e[0] + h[1] * e[1], h[2] * e[0] + h[3] * e[1]]);
             Ok(Point { cost: f, gradient: g, hessian: Some(hessian) })
         };
         let p = TrustRegionParams { max_iterations: 500, max_evaluations: 5000, ..Default::default() };
