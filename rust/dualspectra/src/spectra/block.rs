@@ -7,8 +7,9 @@
 //! update directions): with $S$ that basis, $G = S^\top M S$, $A = S^\top H S$, the $k$
 //! smallest eigenpairs of $A c = \lambda G c$ give $X \leftarrow S C$ (Knyazev 2001,
 //! "Toward the optimal preconditioned eigensolver: LOBPCG"). $G$ is inverted through its
-//! eigendecomposition, dropping near-dependent directions (Stathopoulos & Wu 2002, SVQB), so
-//! the basis needs no explicit orthogonalisation.
+//! Cholesky factor, or, when the basis is near-dependent, its eigendecomposition, dropping
+//! those directions (Stathopoulos & Wu 2002, SVQB), so the basis needs no explicit
+//! orthogonalisation.
 //!
 //! With $K^{-1}$ the exact shift-inverted operator, $\mathrm{span}[X, W]
 //! = \mathrm{span}[X, K^{-1}MX]$: a block Krylov step. When the potential changed a little,
@@ -38,6 +39,30 @@ fn mat_tr_mul(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Mat<f64> {
     out
 }
 
+/// $A^\top B$ for a product known to be symmetric: the lower triangle is computed (half the
+/// work of [`mat_tr_mul`]) and mirrored.
+fn symmetric_tr_mul(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Mat<f64> {
+    let m = a.ncols();
+    let mut out = Mat::<f64>::zeros(m, m);
+    faer::linalg::matmul::triangular::matmul(
+        out.as_mut(),
+        faer::linalg::matmul::triangular::BlockStructure::TriangularLower,
+        Accum::Replace,
+        a.transpose(),
+        faer::linalg::matmul::triangular::BlockStructure::Rectangular,
+        b,
+        faer::linalg::matmul::triangular::BlockStructure::Rectangular,
+        1.0,
+        Par::Seq,
+    );
+    for j in 0..m {
+        for i in 0..j {
+            out[(i, j)] = out[(j, i)];
+        }
+    }
+    out
+}
+
 fn mat_mul(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Mat<f64> {
     let mut out = Mat::<f64>::zeros(a.nrows(), b.ncols());
     matmul(out.as_mut(), Accum::Replace, a, b, 1.0, Par::Seq);
@@ -64,11 +89,44 @@ fn rayleigh_ritz(s: MatRef<'_, f64>, hs: MatRef<'_, f64>, mass: &[f64], k: usize
     let ms = Mat::from_fn(n, m, |i, j| mass[i] * s[(i, j)]);
     let g = mat_tr_mul(s, ms.as_ref());
     let a = mat_tr_mul(s, hs);
-    // Scale to unit diagonal, then SVQB.
+    // Scale to unit diagonal.
     let d: Vec<f64> = (0..m)
         .map(|j| if g[(j, j)] > 0.0 { 1.0 / g[(j, j)].sqrt() } else { 0.0 })
         .collect();
     let gs = Mat::from_fn(m, m, |i, j| 0.5 * (g[(i, j)] + g[(j, i)]) * d[i] * d[j]);
+    // T with S T M-orthonormal.
+    let t = orthonormalizer(gs.as_ref(), &d, k)?;
+    let at = mat_mul(a.as_ref(), t.as_ref());
+    let b0 = mat_tr_mul(t.as_ref(), at.as_ref());
+    let r = t.ncols();
+    let b = Mat::from_fn(r, r, |i, j| 0.5 * (b0[(i, j)] + b0[(j, i)]));
+    let evd = b.self_adjoint_eigen(Side::Lower).ok()?;
+    let (bv, bu) = (evd.S(), evd.U());
+    let values: Vec<f64> = (0..k).map(|i| bv[i]).collect();
+    let c = mat_mul(t.as_ref(), bu.subcols(0, k));
+    Some((values, c))
+}
+
+/// Smallest Cholesky pivot (of the unit-diagonal Gram matrix) accepted: below it the basis
+/// is near-dependent and [`orthonormalizer`] drops directions by SVQB instead.
+const MIN_PIVOT: f64 = 1e-10;
+
+/// `T` (`m x r`, `r <= m`) with $T^\top D^{-1} G_s D^{-1} T = I$ for the unit-diagonal Gram
+/// matrix `gs` $= D G D$, i.e. $S T$ is $M$-orthonormal: $T = D L^{-\top}$ from the Cholesky
+/// factor $G_s = L L^\top$ when every pivot is at least [`MIN_PIVOT`] (the usual case, ~10x
+/// cheaper than an eigendecomposition), else SVQB (Stathopoulos & Wu 2002: $T = D U_r
+/// \Sigma_r^{-1/2}$, keeping the eigenvalues above $10^{-13}$ of the largest). `None` if fewer
+/// than `k` directions remain.
+fn orthonormalizer(gs: MatRef<'_, f64>, d: &[f64], k: usize) -> Option<Mat<f64>> {
+    let m = gs.nrows();
+    if let Ok(llt) = gs.llt(Side::Lower) {
+        let l = llt.L();
+        if (0..m).all(|j| l[(j, j)] * l[(j, j)] >= MIN_PIVOT) {
+            let mut linv = Mat::<f64>::identity(m, m);
+            faer::linalg::triangular_solve::solve_lower_triangular_in_place(l, linv.as_mut(), Par::Seq);
+            return Some(Mat::from_fn(m, m, |i, c| d[i] * linv[(c, i)]));
+        }
+    }
     let evd = gs.self_adjoint_eigen(Side::Lower).ok()?;
     let (gv, gu) = (evd.S(), evd.U());
     let gmax = (0..m).map(|i| gv[i]).fold(0.0, f64::max);
@@ -76,16 +134,7 @@ fn rayleigh_ritz(s: MatRef<'_, f64>, hs: MatRef<'_, f64>, mass: &[f64], k: usize
     if keep.len() < k {
         return None;
     }
-    // T = D U_keep Sigma^{-1/2}: S T is M-orthonormal.
-    let t = Mat::from_fn(m, keep.len(), |i, c| d[i] * gu[(i, keep[c])] / gv[keep[c]].sqrt());
-    let at = mat_mul(a.as_ref(), t.as_ref());
-    let b0 = mat_tr_mul(t.as_ref(), at.as_ref());
-    let b = Mat::from_fn(keep.len(), keep.len(), |i, j| 0.5 * (b0[(i, j)] + b0[(j, i)]));
-    let evd = b.self_adjoint_eigen(Side::Lower).ok()?;
-    let (bv, bu) = (evd.S(), evd.U());
-    let values: Vec<f64> = (0..k).map(|i| bv[i]).collect();
-    let c = mat_mul(t.as_ref(), bu.subcols(0, k));
-    Some((values, c))
+    Some(Mat::from_fn(m, keep.len(), |i, c| d[i] * gu[(i, keep[c])] / gv[keep[c]].sqrt()))
 }
 
 /// LOBPCG from `x0` (`n x b`) until the first `wanted` Ritz pairs have converged, i.e. their
@@ -159,4 +208,64 @@ pub(crate) fn refine(
         p = Some((pn, hpn));
     }
     Ok(None)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `T^T (D^-1 Gs D^-1) T`, which must be the identity.
+    fn gram_in_t(gs: MatRef<'_, f64>, d: &[f64], t: MatRef<'_, f64>) -> Mat<f64> {
+        let m = gs.nrows();
+        let g = Mat::from_fn(m, m, |i, j| gs[(i, j)] / (d[i] * d[j]));
+        mat_tr_mul(t, mat_mul(g.as_ref(), t).as_ref())
+    }
+
+    fn max_off_identity(a: MatRef<'_, f64>) -> f64 {
+        let mut worst = 0.0f64;
+        for i in 0..a.nrows() {
+            for j in 0..a.ncols() {
+                worst = worst.max((a[(i, j)] - f64::from(u8::from(i == j))).abs());
+            }
+        }
+        worst
+    }
+
+    /// A unit-diagonal Gram matrix of `cols` pseudo-random vectors in R^20, the last one
+    /// `dup` times the first plus `eps` times a new direction.
+    fn gram(cols: usize, eps: f64) -> Mat<f64> {
+        let v = Mat::from_fn(20, cols, |i, j| {
+            let r = super::super::eigensolver::start_value(i as u64, j as u64);
+            if j == cols - 1 {
+                super::super::eigensolver::start_value(i as u64, 0) + eps * r
+            } else {
+                r
+            }
+        });
+        let g = mat_tr_mul(v.as_ref(), v.as_ref());
+        Mat::from_fn(cols, cols, |i, j| g[(i, j)] / (g[(i, i)] * g[(j, j)]).sqrt())
+    }
+
+    #[test]
+    fn cholesky_path_orthonormalizes_a_well_conditioned_basis() {
+        let gs = gram(8, 1.0);
+        let d: Vec<f64> = (0..8).map(|i| 1.0 + i as f64).collect();
+        let t = orthonormalizer(gs.as_ref(), &d, 4).expect("full rank");
+        assert_eq!(t.ncols(), 8, "no direction may be dropped");
+        let e = max_off_identity(gram_in_t(gs.as_ref(), &d, t.as_ref()).as_ref());
+        assert!(e < 1e-12, "T^T G T - I = {e:e}");
+    }
+
+    #[test]
+    fn near_dependent_basis_falls_back_to_svqb_and_drops_the_direction() {
+        // The last vector equals the first to 1e-9: the Cholesky pivot (~1e-18) is below
+        // MIN_PIVOT, so SVQB runs and keeps 7 directions.
+        let gs = gram(8, 1e-9);
+        let d = vec![1.0; 8];
+        let t = orthonormalizer(gs.as_ref(), &d, 4).expect("enough directions");
+        assert_eq!(t.ncols(), 7);
+        let e = max_off_identity(gram_in_t(gs.as_ref(), &d, t.as_ref()).as_ref());
+        assert!(e < 1e-6, "T^T G T - I = {e:e}");
+        assert!(orthonormalizer(gs.as_ref(), &d, 8).is_none(), "8 directions cannot be had");
+    }
 }
