@@ -39,30 +39,6 @@ fn mat_tr_mul(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Mat<f64> {
     out
 }
 
-/// $A^\top B$ for a product known to be symmetric: the lower triangle is computed (half the
-/// work of [`mat_tr_mul`]) and mirrored.
-fn symmetric_tr_mul(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Mat<f64> {
-    let m = a.ncols();
-    let mut out = Mat::<f64>::zeros(m, m);
-    faer::linalg::matmul::triangular::matmul(
-        out.as_mut(),
-        faer::linalg::matmul::triangular::BlockStructure::TriangularLower,
-        Accum::Replace,
-        a.transpose(),
-        faer::linalg::matmul::triangular::BlockStructure::Rectangular,
-        b,
-        faer::linalg::matmul::triangular::BlockStructure::Rectangular,
-        1.0,
-        Par::Seq,
-    );
-    for j in 0..m {
-        for i in 0..j {
-            out[(i, j)] = out[(j, i)];
-        }
-    }
-    out
-}
-
 fn mat_mul(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Mat<f64> {
     let mut out = Mat::<f64>::zeros(a.nrows(), b.ncols());
     matmul(out.as_mut(), Accum::Replace, a, b, 1.0, Par::Seq);

@@ -180,21 +180,28 @@ impl ShiftedFactor {
         out.fill(0.0);
         let col_ptr = self.pattern.col_ptr();
         let row_idx = self.pattern.row_idx();
+        let mut xbuf = vec![0.0; self.n];
+        let mut obuf = vec![0.0; self.n];
         for c in 0..x.ncols() {
-            let xc = x.col(c);
-            let mut oc = out.rb_mut().col_mut(c);
+            // Contiguous copies: the loop below indexes slices (bounds checks hoisted) instead
+            // of strided faer columns.
+            for (xi, v) in xbuf.iter_mut().zip(x.col(c).iter()) {
+                *xi = *v;
+            }
+            obuf.fill(0.0);
             for j in 0..self.n {
-                let xj = xc[j];
+                let xj = xbuf[j];
                 let (s, e) = (col_ptr[j], col_ptr[j + 1]);
                 // Diagonal first.
                 let mut acc = self.w_values[s] * xj;
-                for p in s + 1..e {
-                    let i = row_idx[p];
-                    let v = self.w_values[p];
-                    oc[i] += v * xj;
-                    acc += v * xc[i];
+                for (&i, &v) in row_idx[s + 1..e].iter().zip(&self.w_values[s + 1..e]) {
+                    obuf[i] += v * xj;
+                    acc += v * xbuf[i];
                 }
-                oc[j] += acc;
+                obuf[j] += acc;
+            }
+            for (o, v) in out.rb_mut().col_mut(c).iter_mut().zip(&obuf) {
+                *o = *v;
             }
         }
     }
