@@ -319,7 +319,8 @@ impl HamiltonianSolver {
     /// pseudo-random block of `p > k + guards` vectors, then Sylvester's inertia check that no
     /// eigenvalue below the `k`-th was missed (the negative pivots of $H - \mu M$ count the
     /// eigenvalues below $\mu$). A miss is retried from another random block with room for
-    /// the missing ones; after three attempts it is an error, never a silent wrong spectrum.
+    /// the missing ones, a block iteration that does not converge (a stall) from another
+    /// random block; after three attempts it is an error, never a silent wrong spectrum.
     ///
     /// A block method finds every member of a repeated eigenvalue (symmetric meshes). The
     /// single-vector Krylov-Schur used before (faer's `partial_self_adjoint_eigen`) holds one
@@ -341,7 +342,7 @@ impl HamiltonianSolver {
             return Ok((values, vectors, 0));
         }
         let mut p = (nev + nev / 2 + 2).min(n - 1);
-        let mut missing = 0;
+        let (mut missing, mut unconverged) = (0, 0);
         for attempt in 0..3u64 {
             let x0 = Mat::from_fn(n, p, |i, j| {
                 start_value(i as u64, 7 + 1000 * attempt + j as u64) * self.inv_sqrt_m[i]
@@ -357,11 +358,9 @@ impl HamiltonianSolver {
                 self.params.max_cold_iter,
             )?
             else {
-                return Err(Error::Numerical(format!(
-                    "the eigensolver did not converge in {} block iterations \
-                     ({nev} eigenpairs, {n} vertices)",
-                    self.params.max_cold_iter
-                )));
+                // Not converged (a stall of the block iteration): another random block.
+                unconverged += 1;
+                continue;
             };
             let mut lam = values.clone();
             lam.sort_by(f64::total_cmp);
@@ -374,6 +373,13 @@ impl HamiltonianSolver {
                 ));
             }
             p = (p + 2 * missing).min(n - 1);
+        }
+        if unconverged > 0 && missing == 0 {
+            return Err(Error::Numerical(format!(
+                "the eigensolver did not converge in {} block iterations from {unconverged} \
+                 random starts ({nev} eigenpairs, {n} vertices)",
+                self.params.max_cold_iter
+            )));
         }
         Err(Error::Numerical(format!(
             "the eigensolver missed {missing} of the {k} smallest eigenvalues after three \
