@@ -5,7 +5,8 @@
 //! Options from the environment: DS_MODE, DS_K, DS_RES, DS_CENTERS, DS_ITERS, DS_FINALISTS,
 //! DS_SELECTION (gated, region, descriptors, cost), DS_DESC_START=1 (descriptor start),
 //! DS_HESSIAN (finite-difference, gauss-newton), DS_EXTRA;
-//! DS_VERBOSE lists every start (`*`: finalist).
+//! DS_VERBOSE lists every start (`*`: finalist); DS_PAIRS=a,b runs only the pairs whose name
+//! contains `a` or `b`.
 
 use dualspectra::evaluation::datasets::Shrec16;
 use dualspectra::evaluation::metrics::{scores, symmetry_aware};
@@ -77,7 +78,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let data = Shrec16::open(root)?;
     let pairs = data.pairs()?;
     let (mut sum_iou, mut sum_oracle, mut sum_cost_sel, mut count) = (0.0, 0.0, 0.0, 0);
-    for pair in pairs.iter().skip(offset).step_by(stride) {
+    // DS_PAIRS=a,b: only the pairs whose name contains one of the comma-separated strings.
+    let only: Vec<String> = std::env::var("DS_PAIRS")
+        .map(|s| s.split(',').map(str::to_string).collect())
+        .unwrap_or_default();
+    for pair in pairs
+        .iter()
+        .skip(offset)
+        .step_by(stride)
+        .filter(|p| only.is_empty() || only.iter().any(|o| p.name.contains(o.as_str())))
+    {
         let p = pair.load()?;
         let t = std::time::Instant::now();
         // DS_GT_START=1: also start from the ground truth (is the cost minimal there?).
