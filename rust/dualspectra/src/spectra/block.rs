@@ -213,8 +213,8 @@ mod tests {
         worst
     }
 
-    /// A unit-diagonal Gram matrix of `cols` pseudo-random vectors in R^20, the last one
-    /// `dup` times the first plus `eps` times a new direction.
+    /// The unit-diagonal Gram matrix of `cols` pseudo-random vectors in R^20, the last of
+    /// which is the first plus `eps` times a pseudo-random direction.
     fn gram(cols: usize, eps: f64) -> Mat<f64> {
         let v = Mat::from_fn(20, cols, |i, j| {
             let r = super::super::eigensolver::start_value(i as u64, j as u64);
@@ -240,7 +240,7 @@ mod tests {
 
     #[test]
     fn near_dependent_basis_falls_back_to_svqb_and_drops_the_direction() {
-        // The last vector equals the first to 1e-9: the Cholesky pivot (~1e-18) is below
+        // The last vector equals the first to 1e-9: the squared pivot (~1e-18) is below
         // MIN_PIVOT, so SVQB runs and keeps 7 directions.
         let gs = gram(8, 1e-9);
         let d = vec![1.0; 8];
