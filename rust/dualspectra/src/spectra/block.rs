@@ -213,6 +213,12 @@ mod tests {
         worst
     }
 
+    /// `orthonormalizer(gs, d, k)`'s column count and $\max|T^\top G T - I|$.
+    fn orthonormalized(gs: MatRef<'_, f64>, d: &[f64], k: usize) -> (usize, f64) {
+        let t = orthonormalizer(gs, d, k).expect("enough directions");
+        (t.ncols(), max_off_identity(gram_in_t(gs, d, t.as_ref()).as_ref()))
+    }
+
     /// The unit-diagonal Gram matrix of `cols` pseudo-random vectors in R^20, the last of
     /// which is the first plus `eps` times a pseudo-random direction.
     fn gram(cols: usize, eps: f64) -> Mat<f64> {
@@ -232,9 +238,8 @@ mod tests {
     fn cholesky_path_orthonormalizes_a_well_conditioned_basis() {
         let gs = gram(8, 1.0);
         let d: Vec<f64> = (0..8).map(|i| 1.0 + i as f64).collect();
-        let t = orthonormalizer(gs.as_ref(), &d, 4).expect("full rank");
-        assert_eq!(t.ncols(), 8, "no direction may be dropped");
-        let e = max_off_identity(gram_in_t(gs.as_ref(), &d, t.as_ref()).as_ref());
+        let (cols, e) = orthonormalized(gs.as_ref(), &d, 4);
+        assert_eq!(cols, 8, "no direction may be dropped");
         assert!(e < 1e-12, "T^T G T - I = {e:e}");
     }
 
@@ -244,9 +249,8 @@ mod tests {
         // MIN_PIVOT, so SVQB runs and keeps 7 directions.
         let gs = gram(8, 1e-9);
         let d = vec![1.0; 8];
-        let t = orthonormalizer(gs.as_ref(), &d, 4).expect("enough directions");
-        assert_eq!(t.ncols(), 7);
-        let e = max_off_identity(gram_in_t(gs.as_ref(), &d, t.as_ref()).as_ref());
+        let (cols, e) = orthonormalized(gs.as_ref(), &d, 4);
+        assert_eq!(cols, 7);
         assert!(e < 1e-6, "T^T G T - I = {e:e}");
         assert!(orthonormalizer(gs.as_ref(), &d, 8).is_none(), "8 directions cannot be had");
     }
@@ -257,9 +261,8 @@ mod tests {
         // orthonormal to ~eps cond(G) ~ 2e-8 (measured 2.9e-8).
         let gs = gram(8, 1e-4);
         let d = vec![1.0; 8];
-        let t = orthonormalizer(gs.as_ref(), &d, 4).expect("enough directions");
-        assert_eq!(t.ncols(), 8);
-        let e = max_off_identity(gram_in_t(gs.as_ref(), &d, t.as_ref()).as_ref());
+        let (cols, e) = orthonormalized(gs.as_ref(), &d, 4);
+        assert_eq!(cols, 8);
         assert!(e < 1e-6, "T^T G T - I = {e:e}");
     }
 }
