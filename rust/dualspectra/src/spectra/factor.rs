@@ -177,7 +177,6 @@ impl ShiftedFactor {
 
     /// `out = W x` for a dense block `x` (uses the stored lower triangle, symmetric product).
     pub(crate) fn w_mul(&self, mut out: MatMut<'_, f64>, x: faer::MatRef<'_, f64>) {
-        out.fill(0.0);
         let col_ptr = self.pattern.col_ptr();
         let row_idx = self.pattern.row_idx();
         let mut xbuf = vec![0.0; self.n];
