@@ -4,7 +4,7 @@
 //! `cargo run --release --example 401_localize_shrec -- DATASET [STRIDE] [OFFSET]`
 //! Options from the environment: DS_MODE, DS_K, DS_RES, DS_CENTERS, DS_ITERS, DS_FINALISTS,
 //! DS_SELECTION (gated, region, descriptors, cost), DS_DESC_START=1 (descriptor start),
-//! DS_HESSIAN (finite-difference, gauss-newton), DS_EXTRA;
+//! DS_HESSIAN (finite-difference, gauss-newton), DS_EXTRA, DS_START_SHAPE (gaussian, area-ball);
 //! DS_VERBOSE lists every start (`*`: finalist); DS_PAIRS=a,b runs only the pairs whose name
 //! contains `a` or `b`.
 
@@ -71,6 +71,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "region" => o.selection = Selection::Region,
         "gated" => o.selection = Selection::Gated,
         _ => {}
+    }
+    if let Ok(h) = std::env::var("DS_START_SHAPE") {
+        o.start_shape = serde_json::from_value(serde_json::Value::String(h))?;
     }
     if let Ok(h) = std::env::var("DS_HESSIAN") {
         o.hessian = serde_json::from_value(serde_json::Value::String(h))?;

@@ -27,7 +27,9 @@ mod pipeline;
 pub use error::{Error, MeshError, Result};
 pub use mesh::TriMesh;
 pub use progress::Progress;
-pub use localize::{localize, localize_with_initial_regions, Candidate, Localization, Mode, Options, Selection, Timings};
+pub use localize::{
+    localize, localize_with_initial_regions, Candidate, Localization, Mode, Options, Selection, StartShape, Timings,
+};
 
 /// Version of the core library (the crate version).
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");

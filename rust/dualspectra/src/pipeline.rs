@@ -8,7 +8,7 @@ use crate::alignment::starts::{farthest_point_samples, gaussian_starts, mask_sta
 use crate::alignment::trust_region::{minimize, HessianOperator, Point, TrustRegionParams};
 use crate::error::{Error, Result};
 use crate::localize::internal::{check_options, largest_component};
-use crate::localize::{Candidate, Localization, Mode, Options, Selection, StartOutcome, Timings};
+use crate::localize::{Candidate, Localization, Mode, Options, Selection, StartOutcome, StartShape, Timings};
 use crate::mesh::TriMesh;
 use crate::progress::Progress;
 use crate::region::energy::{area_matched_region, eigenvector_energy};
@@ -153,7 +153,26 @@ pub(crate) fn run(
     let pts = opt_shape.mesh().vertices();
     let centres = farthest_point_samples(pts, options.centers, options.seed);
     let sigma = partial_area.sqrt();
-    let mut starts: Vec<Start> = gaussian_starts(pts, &centres, &[sigma, 2.0 * sigma]);
+    let mut starts: Vec<Start> = match options.start_shape {
+        StartShape::Gaussian => gaussian_starts(pts, &centres, &[sigma, 2.0 * sigma]),
+        StartShape::AreaBall => crate::alignment::starts::area_ball_starts(
+            opt_shape.mesh(),
+            opt_shape.mass(),
+            &centres,
+            partial_area,
+        ),
+        StartShape::BallsAndWideGaussians => {
+            let balls = crate::alignment::starts::area_ball_starts(
+                opt_shape.mesh(),
+                opt_shape.mass(),
+                &centres,
+                partial_area,
+            );
+            let wide = gaussian_starts(pts, &centres, &[2.0 * sigma]);
+            // Per centre: ball, coball, wide well, wide bump.
+            balls.chunks(2).zip(wide.chunks(2)).flat_map(|(b, g)| b.iter().chain(g).cloned()).collect()
+        }
+    };
     // Protected starts (never pruned) first: given regions (on the full shape, read at the
     // vertex each decimated vertex came from), then the descriptor baseline.
     let mut protected: Vec<Start> = initial_regions

@@ -1,7 +1,7 @@
 //! End-to-end laws of the localizer on small generated shapes (seconds, not minutes).
 
 use dualspectra::mesh::generate::icosphere;
-use dualspectra::{localize, Error, Mode, Options, Progress, TriMesh};
+use dualspectra::{localize, Error, Mode, Options, Progress, StartShape, TriMesh};
 
 /// An asymmetric closed shape: a unit icosphere with three bumps of different sizes.
 fn bumpy_sphere(level: u32) -> TriMesh {
@@ -49,10 +49,26 @@ fn finds_an_undeformed_cut() {
     let res = localize(&full, &part, &quick(), &Progress::none()).unwrap();
     let score = iou(&res.region, &truth);
     assert!(score > 0.9, "IoU {score}, cost {}", res.cost);
+    assert_eq!(res.n_starts, 4 * quick().centers, "4 starts per centre by default");
     assert_eq!(res.region.len(), full.n_vertices());
     assert_eq!(res.eigenvalues_regular.len(), 10);
     assert_eq!(res.eigenvalues_si.len(), 10);
     assert!(res.score.iter().all(|s| (0.0..=1.0).contains(s)));
+}
+
+#[test]
+fn every_start_shape_finds_an_undeformed_cut() {
+    // The cut of `finds_an_undeformed_cut` (which runs the default, `BallsAndWideGaussians`),
+    // with the other shapes of starts: each finds it and gives its documented number of starts.
+    let full = bumpy_sphere(3);
+    let (part, truth) = cut(&full, |p| p[2] > 0.1);
+    for (shape, per_centre) in [(StartShape::Gaussian, 4), (StartShape::AreaBall, 2)] {
+        let o = Options { start_shape: shape, ..quick() };
+        let res = localize(&full, &part, &o, &Progress::none()).unwrap();
+        assert_eq!(res.n_starts, per_centre * o.centers, "{shape:?}");
+        let score = iou(&res.region, &truth);
+        assert!(score > 0.9, "{shape:?}: IoU {score}, cost {}", res.cost);
+    }
 }
 
 #[test]

@@ -12,7 +12,7 @@ use crate::error::CliError;
 use crate::input::read_input_mesh;
 use crate::output::{to_json_line, write_text};
 use dualspectra::localize::HessianModel;
-use dualspectra::{Localization, Mode, Options, Progress, Timings, TriMesh};
+use dualspectra::{Localization, Mode, Options, Progress, StartShape, Timings, TriMesh};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -55,6 +55,27 @@ impl From<HessianArg> for HessianModel {
     }
 }
 
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum StartsArg {
+    /// The reference's Gaussians: two widths, both signs (4 starts per centre).
+    Gaussian,
+    /// A well on the ball of the partial's area around each centre, and one on everything but
+    /// the ball of the rest of the area (2 starts per centre).
+    AreaBall,
+    /// The two area-matched balls and the wide Gaussians (4 starts per centre).
+    BallsAndWideGaussians,
+}
+
+impl From<StartsArg> for StartShape {
+    fn from(s: StartsArg) -> StartShape {
+        match s {
+            StartsArg::Gaussian => StartShape::Gaussian,
+            StartsArg::AreaBall => StartShape::AreaBall,
+            StartsArg::BallsAndWideGaussians => StartShape::BallsAndWideGaussians,
+        }
+    }
+}
+
 /// The localizer's options shared by `localize` and `bench`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct LocalizeOptions {
@@ -70,9 +91,14 @@ pub struct LocalizeOptions {
     /// Seed of every random choice (results are deterministic for a given seed).
     #[arg(long, value_name = "N", default_value_t = 0)]
     pub seed: u64,
-    /// Farthest-point centres of the Gaussian starts (4 starts each) [default: the library's, 4; the paper used 10].
+    /// Farthest-point centres of the starts (4 starts each, 2 with `--starts area-ball`)
+    /// [default: the library's, 4; the paper used 10].
     #[arg(long, value_name = "N")]
     pub centers: Option<usize>,
+    /// The starting potentials around each centre [default: the library's,
+    /// balls-and-wide-gaussians].
+    #[arg(long, value_enum, value_name = "SHAPE")]
+    pub starts: Option<StartsArg>,
     /// Trust-region iterations per start [default: the library's, 50].
     #[arg(long, value_name = "N")]
     pub iterations: Option<usize>,
@@ -130,6 +156,9 @@ impl LocalizeOptions {
         }
         if let Some(h) = self.hessian {
             o.hessian = h.into();
+        }
+        if let Some(s) = self.starts {
+            o.start_shape = s.into();
         }
         if let Some(a) = self.alpha {
             if !a.is_finite() {

@@ -70,6 +70,62 @@ pub fn gaussian_starts(points: &[[f64; 3]], centres: &[usize], sigmas: &[f64]) -
     out
 }
 
+/// Amplitude of the area-matched starts, $w_0 = \pm 2 \tanh((d - r)/h)$: the same extremes
+/// as the Gaussian starts ($v \approx 0.04c$ inside, $1.96c$ outside).
+pub const BALL_AMPLITUDE: f64 = 2.0;
+
+/// Area-matched starts: for each centre $c$, with $d$ the edge-graph distance from $c$,
+/// - "ball": a well on the ball around $c$ whose area (sum of `mass`) is the partial's `area`:
+///   $w_0 = a \tanh((d - r)/h)$, $r$ the radius where the ball's area reaches `area`;
+/// - "coball": a well on everything but the ball of area $A_M - $ `area` around $c$ (the
+///   partial as what remains after cutting a piece off around $c$):
+///   $w_0 = -a \tanh((d - r')/h')$.
+///
+/// The transition width is $h = r/2$. By Weyl's law the Dirichlet eigenvalues of a region
+/// grow as $4\pi i / \text{area}$, so a start with the partial's area begins near the target
+/// spectrum's scale, where a Gaussian's 0.5-level set encloses ~4.4x (and, at $2\sigma$, ~17x)
+/// the partial's area on a flat patch.
+pub fn area_ball_starts(
+    mesh: &crate::mesh::TriMesh,
+    mass: &[f64],
+    centres: &[usize],
+    area: f64,
+) -> Vec<Start> {
+    let neighbors = crate::mesh::topology::vertex_neighbors(mesh);
+    let total: f64 = mass.iter().sum();
+    let mut out = Vec::with_capacity(2 * centres.len());
+    for &c in centres {
+        let d = crate::mesh::topology::edge_graph_distances(mesh, &neighbors, c);
+        let mut order: Vec<usize> = (0..d.len()).collect();
+        order.sort_by(|&i, &j| d[i].total_cmp(&d[j]).then(i.cmp(&j)));
+        // Radius at which the ball around c reaches area `a` (the farthest reachable vertex's
+        // distance if it never does).
+        let radius = |a: f64| {
+            let mut acc = 0.0;
+            let mut r = 0.0;
+            for &i in &order {
+                if !d[i].is_finite() {
+                    break;
+                }
+                r = d[i];
+                acc += mass[i];
+                if acc >= a {
+                    break;
+                }
+            }
+            r
+        };
+        let min_positive = order.iter().map(|&i| d[i]).find(|&x| x > 0.0).unwrap_or(1.0);
+        let profile = |r: f64, sign: f64| -> Vec<f64> {
+            let h = 0.5 * r.max(min_positive);
+            d.iter().map(|&x| sign * BALL_AMPLITUDE * if x.is_finite() { ((x - r) / h).tanh() } else { 1.0 }).collect()
+        };
+        out.push(Start { w0: profile(radius(area), 1.0), label: format!("ball@{c}"), family: "well" });
+        out.push(Start { w0: profile(radius(total - area), -1.0), label: format!("coball@{c}"), family: "bump" });
+    }
+    out
+}
+
 /// The descriptor baseline start: $w_0 = 2 - 4 R_0$ (low potential on the mask).
 pub fn mask_start(mask: &[bool], label: &str) -> Start {
     Start { w0: mask.iter().map(|&m| if m { -2.0 } else { 2.0 }).collect(), label: label.to_string(), family: "mask" }
@@ -95,4 +151,39 @@ mod tests {
             }
         }
     }
+
+    /// Area of the vertices where `w0 < 0` (the start's well, `v < c`).
+    fn well_area(w0: &[f64], mass: &[f64]) -> f64 {
+        w0.iter().zip(mass).filter(|(w, _)| **w < 0.0).map(|(_, m)| m).sum()
+    }
+
+    #[test]
+    fn area_ball_starts_open_wells_of_the_partials_area() {
+        let shape = crate::shape::Shape::new(crate::mesh::generate::icosphere(4));
+        let mass = shape.mass();
+        let total: f64 = mass.iter().sum();
+        let centres = farthest_point_samples(shape.mesh().vertices(), 3, 1);
+        let max_mass = mass.iter().cloned().fold(0.0, f64::max);
+        for fraction in [0.1, 0.3, 0.7] {
+            let starts = area_ball_starts(shape.mesh(), mass, &centres, fraction * total);
+            assert_eq!(starts.len(), 2 * centres.len());
+            for s in &starts {
+                // The well holds the partial's area, to within the ring of vertices at radius r
+                // (~ sqrt(n) vertices on a sphere of 2562).
+                let a = well_area(&s.w0, mass);
+                assert!(
+                    (a - fraction * total).abs() <= 60.0 * max_mass,
+                    "{}: well area {a} for target {}",
+                    s.label,
+                    fraction * total
+                );
+                assert!(s.w0.iter().all(|w| w.abs() <= BALL_AMPLITUDE));
+            }
+            // The ball's well is around its centre, the coball's away from it.
+            for (pair, &c) in starts.chunks(2).zip(&centres) {
+                assert!(pair[0].w0[c] < -1.9 && pair[1].w0[c] > 1.9);
+            }
+        }
+    }
 }
+

@@ -86,3 +86,80 @@ pub fn connected_components(mesh: &TriMesh) -> (Vec<u32>, usize) {
 pub fn euler_characteristic(mesh: &TriMesh) -> i64 {
     mesh.n_vertices() as i64 - edge_face_counts(mesh).len() as i64 + mesh.n_faces() as i64
 }
+
+/// Shortest-path distances along the mesh edges (Dijkstra, Euclidean edge lengths) from
+/// `source` to every vertex; `f64::INFINITY` where unreachable. An upper bound of the geodesic
+/// distance (by a few percent on regular triangulations); enough to grow regions in order.
+pub fn edge_graph_distances(mesh: &TriMesh, neighbors: &[Vec<u32>], source: usize) -> Vec<f64> {
+    use std::cmp::Reverse;
+    use std::collections::BinaryHeap;
+    let p = mesh.vertices();
+    let mut dist = vec![f64::INFINITY; mesh.n_vertices()];
+    if source >= dist.len() {
+        return dist;
+    }
+    dist[source] = 0.0;
+    // f64 distances are >= 0, so their bit patterns order like the values.
+    let mut heap = BinaryHeap::from([Reverse((0u64, source as u32))]);
+    while let Some(Reverse((d_bits, i))) = heap.pop() {
+        let d = f64::from_bits(d_bits);
+        if d > dist[i as usize] {
+            continue;
+        }
+        for &j in &neighbors[i as usize] {
+            let (a, b) = (p[i as usize], p[j as usize]);
+            let len = ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
+            let nd = d + len;
+            if nd < dist[j as usize] {
+                dist[j as usize] = nd;
+                heap.push(Reverse((nd.to_bits(), j)));
+            }
+        }
+    }
+    dist
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::generate::grid;
+
+    #[test]
+    fn edge_graph_distances_bound_the_euclidean_and_are_exact_along_grid_lines() {
+        // 1 x 1 grid with 10 x 10 cells: vertex (i, j) at (i/10, j/10); edges along the rows
+        // make the distance along the bottom row exact.
+        let mesh = grid(1.0, 1.0, 10, 10);
+        let nb = vertex_neighbors(&mesh);
+        let p = mesh.vertices();
+        let source = (0..p.len()).find(|&i| p[i][0] == 0.0 && p[i][1] == 0.0).unwrap();
+        let d = edge_graph_distances(&mesh, &nb, source);
+        assert_eq!(d[source], 0.0);
+        for (i, q) in p.iter().enumerate() {
+            let e = (q[0].powi(2) + q[1].powi(2)).sqrt();
+            assert!(d[i] >= e - 1e-12, "graph distance {} below the Euclidean {e}", d[i]);
+            // A grid path never exceeds the L1 distance.
+            assert!(d[i] <= q[0].abs() + q[1].abs() + 1e-12);
+            if q[1] == 0.0 {
+                assert!((d[i] - q[0]).abs() < 1e-12);
+            }
+        }
+        // Symmetric: the distance back to the source is the same.
+        let far = d.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)).unwrap().0;
+        let back = edge_graph_distances(&mesh, &nb, far);
+        assert!((back[source] - d[far]).abs() < 1e-12);
+    }
+
+    #[test]
+    fn edge_graph_distances_are_infinite_across_components() {
+        let a = grid(1.0, 1.0, 2, 2);
+        let (mut v, mut f) = a.clone().into_parts();
+        let off = v.len() as u32;
+        let (v2, f2) = a.into_parts();
+        v.extend(v2.iter().map(|p| [p[0] + 5.0, p[1], p[2]]));
+        f.extend(f2.iter().map(|t| [t[0] + off, t[1] + off, t[2] + off]));
+        let mesh = TriMesh::new(v, f).unwrap();
+        let d = edge_graph_distances(&mesh, &vertex_neighbors(&mesh), 0);
+        assert!(d[..off as usize].iter().all(|x| x.is_finite()));
+        assert!(d[off as usize..].iter().all(|x| x.is_infinite()));
+    }
+}
