@@ -183,7 +183,7 @@ class DUALSPECTRA_OT_localize(bpy.types.Operator):
     )
     max_iterations: IntProperty(
         name="Iterations",
-        description="Trust-region iterations per start (0: library default, 50)",
+        description="Trust-region iterations per start (0: library default, 25)",
         default=0, min=0, soft_max=200,
     )
     time_limit: FloatProperty(

@@ -64,9 +64,12 @@ pub struct Options {
     /// takes ~8 s per SHREC'16 pair on 2 cores.
     pub centers: usize,
     /// Trust-region iterations of a start that runs to the end. The reference uses 100; the
-    /// default 50 (with the Gauss-Newton model, 51 cost evaluations per start) chose regions as
-    /// good on 16 SHREC'16 pairs (shape_3, shape_8: symmetry-aware IoU 0.726 with 50, 0.721
-    /// with 100; best start 0.748 and 0.750) in half the time.
+    /// default 25 (with the Gauss-Newton model, 26 cost evaluations per start). From the
+    /// area-matched starts (see [`StartShape`]) later iterations no longer find better regions:
+    /// on all 80 SHREC'16 pairs, symmetry-aware IoU chosen / best start 0.686 / 0.770 with 50,
+    /// 0.705 / 0.770 with 35, 0.712 / 0.772 with 25, 0.698 / 0.762 with 15, at a median 7.9,
+    /// 6.0, 4.7 and ~3.5 s per pair; the procedural demo pair reached IoU 0.968, 0.965 and
+    /// 0.890 with 50, 25 and 15.
     pub max_iterations: usize,
     /// Further trust-region iterations for the starts still converging after
     /// `max_iterations` (cost down by more than 10% over their last 10 iterations; in practice
@@ -114,8 +117,8 @@ pub enum StartShape {
     /// centre. The default: on all 80 SHREC'16 pairs (4 centres, 16 starts each, gated
     /// selection) symmetry-aware IoU 0.686 against 0.662 with [`StartShape::Gaussian`]
     /// (halves of 40: 0.721 / 0.651 against 0.733 / 0.591), best start 0.770 against 0.748,
-    /// and ~0.7x the time (the balls' eigensolves converge faster); `AreaBall` alone at 8
-    /// centres: 0.643 (best start 0.751). The balls suit partials cut off by one cut (a limb,
+    /// in the same time (16 pairs, same run: median 7.93 s against 7.90 s); `AreaBall` alone
+    /// at 8 centres: 0.643 (best start 0.751). The balls suit partials cut off by one cut (a limb,
     /// the rest of the body), the wide Gaussians the others (bands between two cuts).
     #[default]
     BallsAndWideGaussians,
@@ -173,7 +176,7 @@ impl Default for Options {
             seed: 0,
             resolution: 1000,
             centers: 4,
-            max_iterations: 50,
+            max_iterations: 25,
             extra_iterations: 0,
             finalists: 0,
             descriptor_start: false,

@@ -168,7 +168,11 @@ pub(crate) fn run(
                 &centres,
                 partial_area,
             );
-            let wide = gaussian_starts(pts, &centres, &[2.0 * sigma]);
+            // The 2-sigma Gaussians, labelled "sigma1" as in `StartShape::Gaussian`.
+            let wide: Vec<Start> = gaussian_starts(pts, &centres, &[sigma, 2.0 * sigma])
+                .into_iter()
+                .filter(|s| s.label.ends_with("/sigma1"))
+                .collect();
             // Per centre: ball, coball, wide well, wide bump.
             balls.chunks(2).zip(wide.chunks(2)).flat_map(|(b, g)| b.iter().chain(g).cloned()).collect()
         }

@@ -99,7 +99,7 @@ pub struct LocalizeOptions {
     /// balls-and-wide-gaussians].
     #[arg(long, value_enum, value_name = "SHAPE")]
     pub starts: Option<StartsArg>,
-    /// Trust-region iterations per start [default: the library's, 50].
+    /// Trust-region iterations per start [default: the library's, 25].
     #[arg(long, value_name = "N")]
     pub iterations: Option<usize>,
     /// Further trust-region iterations for the starts whose cost still fell by more than 10%

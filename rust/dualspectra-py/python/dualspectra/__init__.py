@@ -103,8 +103,8 @@ def localize(
         seed: seed of every random choice (results are deterministic for a seed).
         resolution: vertices of the decimated full shape the potential is optimised on
             (0: no decimation; default: the core's, 1000).
-        centers: farthest-point centres of the Gaussian starts (4 starts each; default 4, the paper used 10).
-        max_iterations: trust-region iterations per start (default 50).
+        centers: farthest-point centres of the starts (4 starts each; default 4, the paper used 10).
+        max_iterations: trust-region iterations per start (default 25).
         threads: worker threads (0 or default: all cores).
         selection: how the result is chosen among the starts: ``"gated"`` (default:
             the best descriptor score among the starts whose extracted region's own spectra
