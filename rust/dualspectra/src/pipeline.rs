@@ -4,7 +4,7 @@
 
 use crate::alignment::cost::{potential_from_w, AlignmentCost, SpectrumTerm};
 use crate::alignment::descriptor_start::descriptor_baseline_mask;
-use crate::alignment::starts::{farthest_point_samples, gaussian_starts, mask_start, Start};
+use crate::alignment::starts::{area_ball_starts, farthest_point_samples, gaussian_starts, mask_start, Start};
 use crate::alignment::trust_region::{minimize, HessianOperator, Point, TrustRegionParams};
 use crate::error::{Error, Result};
 use crate::localize::internal::{check_options, largest_component};
@@ -153,21 +153,12 @@ pub(crate) fn run(
     let pts = opt_shape.mesh().vertices();
     let centres = farthest_point_samples(pts, options.centers, options.seed);
     let sigma = partial_area.sqrt();
+    let balls = || area_ball_starts(opt_shape.mesh(), opt_shape.mass(), &centres, partial_area);
     let mut starts: Vec<Start> = match options.start_shape {
         StartShape::Gaussian => gaussian_starts(pts, &centres, &[sigma, 2.0 * sigma]),
-        StartShape::AreaBall => crate::alignment::starts::area_ball_starts(
-            opt_shape.mesh(),
-            opt_shape.mass(),
-            &centres,
-            partial_area,
-        ),
+        StartShape::AreaBall => balls(),
         StartShape::BallsAndWideGaussians => {
-            let balls = crate::alignment::starts::area_ball_starts(
-                opt_shape.mesh(),
-                opt_shape.mass(),
-                &centres,
-                partial_area,
-            );
+            let balls = balls();
             // The 2-sigma Gaussians, labelled "sigma1" as in `StartShape::Gaussian`.
             let wide: Vec<Start> = gaussian_starts(pts, &centres, &[sigma, 2.0 * sigma])
                 .into_iter()
