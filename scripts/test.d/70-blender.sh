@@ -10,10 +10,13 @@ cd "$(dirname "$0")/../.."
 root=$(pwd)
 
 command -v blender >/dev/null || { echo "blender not installed: run scripts/setup.d/70-blender.sh" >&2; exit 1; }
-command -v maturin >/dev/null || { echo "maturin not found (pip install maturin)" >&2; exit 1; }
+# maturin from the project venv (scripts/setup.d/30-python.sh installs it there), else from PATH.
+maturin="$root/.venv/bin/maturin"
+[ -x "$maturin" ] || maturin=$(command -v maturin) || {
+  echo "maturin not found: run scripts/setup.d/30-python.sh (or pip install maturin)" >&2; exit 1; }
 
 # The wheel: (re)built here so it matches the sources (a no-op when up to date).
-maturin build --release -q -m rust/dualspectra-py/Cargo.toml 2>&1 | tail -3 || { echo "wheel build failed" >&2; exit 1; }
+PATH="$root/.venv/bin:$PATH" "$maturin" build --release -q -m rust/dualspectra-py/Cargo.toml 2>&1 | tail -3 || { echo "wheel build failed" >&2; exit 1; }
 wheel=$(ls -t target/wheels/dualspectra-*.whl 2>/dev/null | head -1)
 [ -n "$wheel" ] || { echo "no wheel in target/wheels" >&2; exit 1; }
 echo "wheel: $wheel"
