@@ -4,7 +4,7 @@ use crate::convert::trimesh;
 use crate::errors::to_py;
 use crate::progress::python_progress;
 use dualspectra::localize::Selection;
-use dualspectra::{Error, Options};
+use dualspectra::{Error, Options, StartShape};
 use numpy::{PyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -103,7 +103,7 @@ impl Localization {
 
 /// Native `localize`: arrays already converted to float64 (n, 3) / int64 (m, 3) by the Python layer.
 #[pyfunction]
-#[pyo3(signature = (full_vertices, full_faces, partial_vertices, partial_faces, mode, k, alpha, seed, resolution=None, centers=None, max_iterations=None, threads=None, selection=None, progress=None))]
+#[pyo3(signature = (full_vertices, full_faces, partial_vertices, partial_faces, mode, k, alpha, seed, resolution=None, centers=None, max_iterations=None, threads=None, selection=None, starts=None, progress=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn localize(
     py: Python<'_>,
@@ -120,6 +120,7 @@ pub fn localize(
     max_iterations: Option<usize>,
     threads: Option<usize>,
     selection: Option<&str>,
+    starts: Option<&str>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Localization> {
     if let Some(cb) = &progress {
@@ -146,6 +147,17 @@ pub fn localize(
             )))
         }
     };
+    let start_shape = match starts.map(str::to_ascii_lowercase).as_deref() {
+        None => defaults.start_shape,
+        Some("balls-and-wide-gaussians") => StartShape::BallsAndWideGaussians,
+        Some("gaussian") => StartShape::Gaussian,
+        Some("area-ball") => StartShape::AreaBall,
+        Some(other) => {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "unknown starts '{other}' (expected balls-and-wide-gaussians, gaussian or area-ball)"
+            )))
+        }
+    };
     let options = Options {
         mode,
         k,
@@ -156,6 +168,7 @@ pub fn localize(
         max_iterations: max_iterations.unwrap_or(defaults.max_iterations),
         threads: threads.unwrap_or(defaults.threads),
         selection,
+        start_shape,
         ..defaults
     };
     let (handle, raised) = python_progress(progress);

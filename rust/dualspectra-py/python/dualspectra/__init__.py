@@ -89,6 +89,7 @@ def localize(
     max_iterations: Optional[int] = None,
     threads: Optional[int] = None,
     selection: Optional[Literal["gated", "region", "descriptors", "cost"]] = None,
+    starts: Optional[Literal["balls-and-wide-gaussians", "gaussian", "area-ball"]] = None,
     progress: Optional[ProgressCallback] = None,
 ) -> Localization:
     """Find the region of the full mesh that the partial mesh corresponds to.
@@ -111,6 +112,11 @@ def localize(
             are within 3x of the closest to the partial's), ``"region"`` (those spectra
             closest), ``"descriptors"``
             (SHOT descriptors, the paper's rule) or ``"cost"`` (lowest optimised cost).
+        starts: the starting potentials around each centre: ``"balls-and-wide-gaussians"``
+            (default: a well on the ball with the partial's area, one on everything but the
+            ball with the rest of the area, and the wide Gaussian well and bump),
+            ``"gaussian"`` (the paper's: Gaussians of two widths, both signs) or
+            ``"area-ball"`` (the two balls only, 2 starts per centre).
         progress: optional ``callback(fraction, stage)``; returning ``False`` cancels.
 
     Returns:
@@ -139,6 +145,7 @@ def localize(
         _optional_count(max_iterations, "max_iterations"),
         _optional_count(threads, "threads"),
         selection,
+        starts,
         progress,
     )
 

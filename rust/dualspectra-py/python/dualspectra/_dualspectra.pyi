@@ -86,6 +86,7 @@ def localize(
     max_iterations: Optional[int] = None,
     threads: Optional[int] = None,
     selection: Optional[str] = None,
+    starts: Optional[str] = None,
     progress: Optional[Callable[[float, str], Optional[bool]]] = None,
 ) -> Localization: ...
 def spectrum(
