@@ -105,6 +105,11 @@ impl TriMesh {
     }
 }
 
+/// Euclidean distance `|a - b|`.
+pub fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
 /// Area of the triangle `(a, b, c)`: `|(b - a) x (c - a)| / 2`.
 pub fn triangle_area(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
     let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];

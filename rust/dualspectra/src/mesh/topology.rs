@@ -107,9 +107,7 @@ pub fn edge_graph_distances(mesh: &TriMesh, neighbors: &[Vec<u32>], source: usiz
             continue;
         }
         for &j in &neighbors[i as usize] {
-            let (a, b) = (p[i as usize], p[j as usize]);
-            let len = ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
-            let nd = d + len;
+            let nd = d + super::distance(p[i as usize], p[j as usize]);
             if nd < dist[j as usize] {
                 dist[j as usize] = nd;
                 heap.push(Reverse((nd.to_bits(), j)));

@@ -26,13 +26,7 @@ pub fn region_boundary_length(mesh: &TriMesh, region: Option<&[bool]>) -> f64 {
         .map(|(e, _)| e)
         .collect();
     edges.sort_unstable();
-    edges
-        .iter()
-        .map(|&(a, b)| {
-            let (p, q) = (v[a as usize], v[b as usize]);
-            ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
-        })
-        .sum()
+    edges.iter().map(|&(a, b)| crate::mesh::distance(v[a as usize], v[b as usize])).sum()
 }
 
 #[cfg(test)]
