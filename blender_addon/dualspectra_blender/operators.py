@@ -178,7 +178,7 @@ class DUALSPECTRA_OT_localize(bpy.types.Operator):
     seed: IntProperty(name="Seed", description="Seed of every random choice", default=0, min=0)
     centers: IntProperty(
         name="Start Centres",
-        description="Farthest-point centres of the Gaussian starts, 4 starts each (0: library default, 4)",
+        description="Farthest-point centres of the starts, 3 starts each (0: library default, 4)",
         default=0, min=0, soft_max=20,
     )
     max_iterations: IntProperty(

@@ -37,7 +37,7 @@ def parse_args():
     p = argparse.ArgumentParser(prog="test_addon.py")
     p.add_argument("--extension", help="install this extension .zip (Blender 4.2+) instead of using a legacy add-on")
     p.add_argument("--k", type=int, default=10, help="eigenvalues per spectrum for the localization runs")
-    p.add_argument("--centers", type=int, default=2, help="farthest-point start centres (4 starts each)")
+    p.add_argument("--centers", type=int, default=2, help="farthest-point start centres (3 starts each)")
     p.add_argument("--max-iterations", type=int, default=40, help="trust-region iterations per start")
     p.add_argument("--time-limit", type=float, default=600.0, help="seconds allowed per localization run")
     p.add_argument("--subdivisions", type=int, default=4, help="icosphere subdivisions of the test shape")

@@ -50,7 +50,7 @@ typedef struct ds_options {
   uint64_t seed;
   // Vertices of the decimated full shape the potential is optimised on (0: no decimation).
   size_t resolution;
-  // Farthest-point centres of the Gaussian starts (each gives 4 starts).
+  // Farthest-point centres of the starts (each gives 3 starts).
   size_t centers;
   // Trust-region iterations per start (at least 1).
   size_t max_iterations;

@@ -84,7 +84,7 @@ struct Localization {
 using ProgressCallback = std::function<bool(double fraction, std::string_view stage)>;
 
 // The library's defaults (Mode::Dual, k = 20, alpha = 0.33, seed 0, optimisation on a 1000-vertex
-// decimation, 4 centres x 4 starts, 25 trust-region iterations, all cores, gated selection).
+// decimation, 4 centres x 3 starts, 25 trust-region iterations, all cores, gated selection).
 Options default_options();
 
 // Find the region of `full` that `partial` corresponds to.

@@ -94,7 +94,7 @@ pub struct ds_options {
     pub seed: u64,
     /// Vertices of the decimated full shape the potential is optimised on (0: no decimation).
     pub resolution: usize,
-    /// Farthest-point centres of the Gaussian starts (each gives 4 starts).
+    /// Farthest-point centres of the starts (each gives 3 starts).
     pub centers: usize,
     /// Trust-region iterations per start (at least 1).
     pub max_iterations: usize,

@@ -75,7 +75,7 @@ pub mod ffi {
         seed: u64,
         /// Vertices of the decimated full shape the potential is optimised on (0: none).
         resolution: usize,
-        /// Farthest-point centres of the Gaussian starts (each gives 4 starts).
+        /// Farthest-point centres of the starts (each gives 3 starts).
         centers: usize,
         /// Trust-region iterations per start.
         max_iterations: usize,

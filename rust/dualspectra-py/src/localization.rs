@@ -147,16 +147,11 @@ pub fn localize(
             )))
         }
     };
-    let start_shape = match starts.map(str::to_ascii_lowercase).as_deref() {
+    let start_shape = match starts {
         None => defaults.start_shape,
-        Some("balls-and-wide-gaussians") => StartShape::BallsAndWideGaussians,
-        Some("gaussian") => StartShape::Gaussian,
-        Some("area-ball") => StartShape::AreaBall,
-        Some(other) => {
-            return Err(pyo3::exceptions::PyValueError::new_err(format!(
-                "unknown starts '{other}' (expected balls-and-wide-gaussians, gaussian or area-ball)"
-            )))
-        }
+        Some(name) => name
+            .parse::<StartShape>()
+            .map_err(|e| pyo3::exceptions::PyValueError::new_err(format!("starts: {e}")))?,
     };
     let options = Options {
         mode,

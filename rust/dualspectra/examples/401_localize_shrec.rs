@@ -4,9 +4,11 @@
 //! `cargo run --release --example 401_localize_shrec -- DATASET [STRIDE] [OFFSET]`
 //! Options from the environment: DS_MODE, DS_K, DS_RES, DS_CENTERS, DS_ITERS, DS_FINALISTS,
 //! DS_SELECTION (gated, region, descriptors, cost), DS_DESC_START=1 (descriptor start),
-//! DS_HESSIAN (finite-difference, gauss-newton), DS_EXTRA, DS_START_SHAPE (gaussian, area-ball);
-//! DS_VERBOSE lists every start (`*`: finalist); DS_PAIRS=a,b runs only the pairs whose name
-//! contains `a` or `b`.
+//! DS_HESSIAN (finite-difference, gauss-newton), DS_EXTRA, DS_START_SHAPE (a `StartShape` name);
+//! DS_VERBOSE lists every start (`*`: finalist; `sup`/`agree`: its region's mean IoU with the
+//! other starts' regions and how many overlap it with IoU > 0.7); DS_PAIRS=a,b runs only the
+//! pairs whose name contains `a` or `b`; DS_REGION_STUDY prints the chosen start's region under
+//! other rules (energy, potential or both ranked, area factors 0.8-1.2, with and without closing).
 
 use dualspectra::evaluation::datasets::Shrec16;
 use dualspectra::evaluation::metrics::{scores, symmetry_aware};
@@ -49,6 +51,34 @@ fn region_shape(mesh: &TriMesh, region: Option<&[bool]>) -> (i64, usize, f64) {
     )
 }
 
+/// DS_REGION_STUDY: alternative region rules on the chosen start's per-vertex fields.
+fn region_study(
+    full: &TriMesh,
+    partial: &TriMesh,
+    res: &dualspectra::Localization,
+    iou: &dyn Fn(&[bool]) -> f64,
+) -> Result<(), Box<dyn std::error::Error>> {
+    use dualspectra::operators::mass::lumped_mass;
+    use dualspectra::region::closing::close;
+    use dualspectra::region::energy::area_matched_region;
+    let mass = lumped_mass(full);
+    let nb = dualspectra::mesh::topology::vertex_neighbors(full);
+    let area = partial.area();
+    let pmax = res.potential.iter().cloned().fold(f64::MIN_POSITIVE, f64::max);
+    let neg_v: Vec<f64> = res.potential.iter().map(|v| -v / pmax).collect();
+    let mix: Vec<f64> = res.score.iter().zip(&neg_v).map(|(s, v)| s + v).collect();
+    let mut line = format!("    region-study base {:.3}", iou(&res.region));
+    for (name, field) in [("energy", &res.score), ("potential", &neg_v), ("mix", &mix)] {
+        for f in [0.8, 0.9, 1.0, 1.1, 1.2] {
+            let r = area_matched_region(field, &mass, f * area);
+            let c = close(&r, &nb, 4)?;
+            line += &format!(" {name}{f}:{:.3}/{:.3}", iou(&r), iou(&c));
+        }
+    }
+    println!("{line}");
+    Ok(())
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
     let root = args
@@ -73,7 +103,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         _ => {}
     }
     if let Ok(h) = std::env::var("DS_START_SHAPE") {
-        o.start_shape = serde_json::from_value(serde_json::Value::String(h))?;
+        o.start_shape = h.parse()?;
     }
     if let Ok(h) = std::env::var("DS_HESSIAN") {
         o.hessian = serde_json::from_value(serde_json::Value::String(h))?;
@@ -144,10 +174,35 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             );
             let (pchi, pcomp, plen) = region_shape(&p.partial, None);
             println!("    partial: chi {pchi} comp {pcomp} blen {plen:.3}");
-            for (c, i) in res.candidates.iter().zip(&per_start) {
+            // Agreement of each candidate's region with the others' (mean IoU, and how many
+            // overlap it with IoU > 0.7): regions several starts converge to.
+            let overlap = |a: &[bool], b: &[bool]| {
+                let (mut i, mut u) = (0usize, 0usize);
+                for (&x, &y) in a.iter().zip(b) {
+                    i += (x && y) as usize;
+                    u += (x || y) as usize;
+                }
+                if u == 0 { 0.0 } else { i as f64 / u as f64 }
+            };
+            let support: Vec<(f64, usize)> = res
+                .candidates
+                .iter()
+                .enumerate()
+                .map(|(a, ca)| {
+                    let o: Vec<f64> = res
+                        .candidates
+                        .iter()
+                        .enumerate()
+                        .filter(|&(b, _)| b != a)
+                        .map(|(_, cb)| overlap(&ca.region, &cb.region))
+                        .collect();
+                    (o.iter().sum::<f64>() / o.len().max(1) as f64, o.iter().filter(|&&x| x > 0.7).count())
+                })
+                .collect();
+            for ((c, i), (sup, agree)) in res.candidates.iter().zip(&per_start).zip(&support) {
                 let (chi, comp, blen) = region_shape(&p.full, Some(&c.region));
                 println!(
-                    "  {} {:<20} cost {:10.3e} sel {:10.4e} rc {:10.3e} iou {:.3} it {} chi {chi} comp {comp} blen {blen:.3}",
+                    "  {} {:<20} cost {:10.3e} sel {:10.4e} rc {:10.3e} iou {:.3} it {} chi {chi} comp {comp} blen {blen:.3} sup {sup:.3} agree {agree}",
                     if c.finalist { '*' } else { ' ' },
                     c.label,
                     c.cost,
@@ -157,6 +212,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     c.iterations
                 );
             }
+        }
+        if std::env::var("DS_REGION_STUDY").is_ok() {
+            region_study(&p.full, &p.partial, &res, &iou)?;
         }
         sum_iou += chosen.iou;
         sum_oracle += oracle;

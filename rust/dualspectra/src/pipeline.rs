@@ -157,15 +157,21 @@ pub(crate) fn run(
     let mut starts: Vec<Start> = match options.start_shape {
         StartShape::Gaussian => gaussian_starts(pts, &centres, &[sigma, 2.0 * sigma]),
         StartShape::AreaBall => balls(),
-        StartShape::BallsAndWideGaussians => {
+        StartShape::BallsAndWideGaussians | StartShape::BallsAndWideBumps => {
             let balls = balls();
-            // The 2-sigma Gaussians, labelled "sigma1" as in `StartShape::Gaussian`.
+            // The 2-sigma Gaussians (well, bump per centre), labelled "sigma1" as in
+            // `StartShape::Gaussian`.
             let wide: Vec<Start> = gaussian_starts(pts, &centres, &[sigma, 2.0 * sigma])
                 .into_iter()
                 .filter(|s| s.label.ends_with("/sigma1"))
                 .collect();
-            // Per centre: ball, coball, wide well, wide bump.
-            balls.chunks(2).zip(wide.chunks(2)).flat_map(|(b, g)| b.iter().chain(g).cloned()).collect()
+            let keep_wells = options.start_shape == StartShape::BallsAndWideGaussians;
+            // Per centre: ball, coball, (wide well,) wide bump.
+            balls
+                .chunks(2)
+                .zip(wide.chunks(2))
+                .flat_map(|(b, g)| b.iter().chain(g.iter().filter(|s| keep_wells || s.family == "bump")).cloned())
+                .collect()
         }
     };
     // Protected starts (never pruned) first: given regions (on the full shape, read at the

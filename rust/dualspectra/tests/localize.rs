@@ -49,7 +49,12 @@ fn finds_an_undeformed_cut() {
     let res = localize(&full, &part, &quick(), &Progress::none()).unwrap();
     let score = iou(&res.region, &truth);
     assert!(score > 0.9, "IoU {score}, cost {}", res.cost);
-    assert_eq!(res.n_starts, 4 * quick().centers, "4 starts per centre by default");
+    assert_eq!(
+        res.n_starts,
+        StartShape::default().starts_per_centre() * quick().centers,
+        "3 starts per centre by default"
+    );
+    assert_eq!(StartShape::default().starts_per_centre(), 3);
     assert_eq!(res.region.len(), full.n_vertices());
     assert_eq!(res.eigenvalues_regular.len(), 10);
     assert_eq!(res.eigenvalues_si.len(), 10);
@@ -58,17 +63,33 @@ fn finds_an_undeformed_cut() {
 
 #[test]
 fn every_start_shape_finds_an_undeformed_cut() {
-    // The cut of `finds_an_undeformed_cut` (which runs the default, `BallsAndWideGaussians`),
+    // The cut of `finds_an_undeformed_cut` (which runs the default, `BallsAndWideBumps`),
     // with the other shapes of starts: each finds it and gives its documented number of starts.
     let full = bumpy_sphere(3);
     let (part, truth) = cut(&full, |p| p[2] > 0.1);
-    for (shape, per_centre) in [(StartShape::Gaussian, 4), (StartShape::AreaBall, 2)] {
+    for (shape, per_centre) in
+        [(StartShape::Gaussian, 4), (StartShape::AreaBall, 2), (StartShape::BallsAndWideGaussians, 4)]
+    {
         let o = Options { start_shape: shape, ..quick() };
         let res = localize(&full, &part, &o, &Progress::none()).unwrap();
+        assert_eq!(shape.starts_per_centre(), per_centre);
         assert_eq!(res.n_starts, per_centre * o.centers, "{shape:?}");
         let score = iou(&res.region, &truth);
         assert!(score > 0.9, "{shape:?}: IoU {score}, cost {}", res.cost);
     }
+}
+
+#[test]
+fn start_shape_names_round_trip_and_match_serde() {
+    assert_eq!(StartShape::ALL[0], StartShape::default());
+    for s in StartShape::ALL {
+        assert_eq!(s.name().parse::<StartShape>().unwrap(), s);
+        assert_eq!(s.to_string(), s.name());
+        assert_eq!(serde_json::to_value(s).unwrap(), serde_json::Value::String(s.name().into()));
+    }
+    assert_eq!("Area-Ball".parse::<StartShape>().unwrap(), StartShape::AreaBall);
+    let err = "balls".parse::<StartShape>().unwrap_err().to_string();
+    assert!(err.contains("balls-and-wide-bumps") && err.contains("area-ball"), "{err}");
 }
 
 #[test]
@@ -170,13 +191,13 @@ fn progress_is_reported_and_cancel_stops() {
     assert!(matches!(e, Error::Cancelled));
 }
 
-/// Successive halving: of 16 Gaussian starts, `finalists` run to the end and only they are
+/// Successive halving: of 16 starts (8 wells, 8 bumps), `finalists` run to the end and only they are
 /// selected from; a given region is never pruned, and starting from the truth keeps it.
 #[test]
 fn halving_keeps_finalists_and_given_regions() {
     let full = bumpy_sphere(3);
     let (part, truth) = cut(&full, |p| p[0] + 0.3 * p[1] > 0.2);
-    let o = Options { finalists: 4, ..quick() };
+    let o = Options { finalists: 4, start_shape: StartShape::BallsAndWideGaussians, ..quick() };
     let res = dualspectra::localize_with_initial_regions(&full, &part, &o, &[truth.clone()], &Progress::none()).unwrap();
     assert_eq!(res.candidates.len(), 17);
     let given = &res.candidates[0];

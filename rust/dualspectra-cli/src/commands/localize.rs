@@ -55,25 +55,11 @@ impl From<HessianArg> for HessianModel {
     }
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum StartsArg {
-    /// The reference's Gaussians: two widths, both signs (4 starts per centre).
-    Gaussian,
-    /// A well on the ball of the partial's area around each centre, and one on everything but
-    /// the ball of the rest of the area (2 starts per centre).
-    AreaBall,
-    /// The two area-matched balls and the wide Gaussians (4 starts per centre).
-    BallsAndWideGaussians,
-}
-
-impl From<StartsArg> for StartShape {
-    fn from(s: StartsArg) -> StartShape {
-        match s {
-            StartsArg::Gaussian => StartShape::Gaussian,
-            StartsArg::AreaBall => StartShape::AreaBall,
-            StartsArg::BallsAndWideGaussians => StartShape::BallsAndWideGaussians,
-        }
-    }
+/// `--starts`: the library's start-shape names (help lists them), parsed by the library.
+fn start_shape_parser() -> impl clap::builder::TypedValueParser<Value = StartShape> {
+    use clap::builder::TypedValueParser;
+    clap::builder::PossibleValuesParser::new(StartShape::ALL.map(StartShape::name))
+        .try_map(|s| s.parse::<StartShape>())
 }
 
 /// The localizer's options shared by `localize` and `bench`.
@@ -91,14 +77,18 @@ pub struct LocalizeOptions {
     /// Seed of every random choice (results are deterministic for a given seed).
     #[arg(long, value_name = "N", default_value_t = 0)]
     pub seed: u64,
-    /// Farthest-point centres of the starts (4 starts each, 2 with `--starts area-ball`)
-    /// [default: the library's, 4; the paper used 10].
+    /// Farthest-point centres of the starts (3 starts each; 4 with `--starts gaussian` or
+    /// `balls-and-wide-gaussians`, 2 with `area-ball`) [default: the library's, 4; the paper
+    /// used 10].
     #[arg(long, value_name = "N")]
     pub centers: Option<usize>,
-    /// The starting potentials around each centre [default: the library's,
-    /// balls-and-wide-gaussians].
-    #[arg(long, value_enum, value_name = "SHAPE")]
-    pub starts: Option<StartsArg>,
+    /// The starting potentials around each centre: balls-and-wide-bumps (a well on the ball
+    /// of the partial's area, one on everything but a ball, a wide Gaussian bump),
+    /// balls-and-wide-gaussians (and a wide Gaussian well), gaussian (the reference's, two
+    /// widths, both signs), area-ball (the two balls) [default: the library's,
+    /// balls-and-wide-bumps].
+    #[arg(long, value_name = "SHAPE", value_parser = start_shape_parser())]
+    pub starts: Option<StartShape>,
     /// Trust-region iterations per start [default: the library's, 25].
     #[arg(long, value_name = "N")]
     pub iterations: Option<usize>,
@@ -158,7 +148,7 @@ impl LocalizeOptions {
             o.hessian = h.into();
         }
         if let Some(s) = self.starts {
-            o.start_shape = s.into();
+            o.start_shape = s;
         }
         if let Some(a) = self.alpha {
             if !a.is_finite() {

@@ -89,7 +89,9 @@ def localize(
     max_iterations: Optional[int] = None,
     threads: Optional[int] = None,
     selection: Optional[Literal["gated", "region", "descriptors", "cost"]] = None,
-    starts: Optional[Literal["balls-and-wide-gaussians", "gaussian", "area-ball"]] = None,
+    starts: Optional[
+        Literal["balls-and-wide-bumps", "balls-and-wide-gaussians", "gaussian", "area-ball"]
+    ] = None,
     progress: Optional[ProgressCallback] = None,
 ) -> Localization:
     """Find the region of the full mesh that the partial mesh corresponds to.
@@ -104,7 +106,8 @@ def localize(
         seed: seed of every random choice (results are deterministic for a seed).
         resolution: vertices of the decimated full shape the potential is optimised on
             (0: no decimation; default: the core's, 1000).
-        centers: farthest-point centres of the starts (4 starts each; default 4, the paper used 10).
+        centers: farthest-point centres of the starts (3 starts each by default, see
+            ``starts``; default 4, the paper used 10).
         max_iterations: trust-region iterations per start (default 25).
         threads: worker threads (0 or default: all cores).
         selection: how the result is chosen among the starts: ``"gated"`` (default:
@@ -112,11 +115,12 @@ def localize(
             are within 3x of the closest to the partial's), ``"region"`` (those spectra
             closest), ``"descriptors"``
             (SHOT descriptors, the paper's rule) or ``"cost"`` (lowest optimised cost).
-        starts: the starting potentials around each centre: ``"balls-and-wide-gaussians"``
-            (default: a well on the ball with the partial's area, one on everything but the
-            ball with the rest of the area, and the wide Gaussian well and bump),
-            ``"gaussian"`` (the paper's: Gaussians of two widths, both signs) or
-            ``"area-ball"`` (the two balls only, 2 starts per centre).
+        starts: the starting potentials around each centre: ``"balls-and-wide-bumps"``
+            (default, 3 per centre: a well on the ball with the partial's area, one on
+            everything but the ball with the rest of the area, and the wide Gaussian bump),
+            ``"balls-and-wide-gaussians"`` (4: also the wide Gaussian well), ``"gaussian"``
+            (4: the paper's Gaussians of two widths, both signs) or ``"area-ball"`` (2: the
+            two balls only). Unknown names raise ``ValueError``.
         progress: optional ``callback(fraction, stage)``; returning ``False`` cancels.
 
     Returns:
