@@ -73,6 +73,17 @@ def test_localize_other_starts_find_the_cut(pair, starts: str, per_centre: int, 
     assert iou > min_iou
 
 
+def test_localize_spectral_cuts_add_two_starts_each(pair) -> None:
+    v, f, pv, pf, truth = pair
+    r = ds.localize(v, f, pv, pf, spectral_cuts=2, **FAST)
+    assert r.n_starts == 3 * FAST["centers"] + 4
+    iou = (r.region & truth).sum() / (r.region | truth).sum()
+    print(f"[agreement] localize bumpy3 cut, spectral_cuts=2: IoU={iou:.3f}")
+    assert iou > 0.7
+    with pytest.raises(ValueError, match="spectral_cuts"):
+        ds.localize(v, f, pv, pf, spectral_cuts=-1)
+
+
 def test_progress_false_cancels(pair) -> None:
     v, f, pv, pf, _ = pair
     with pytest.raises(ds.Cancelled):

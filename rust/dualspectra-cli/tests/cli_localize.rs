@@ -97,7 +97,7 @@ fn localize_writes_the_json_schema_and_a_ply() {
     assert_eq!(v["mode"], "dual");
     assert_eq!(v["seed"], 3);
     assert_eq!(v["k"], 6);
-    assert!(v["n_starts"].as_u64().unwrap() >= 1);
+    assert_eq!(v["n_starts"], 6, "2 centres x 3 starts (balls-and-wide-bumps)");
     assert!(v["timings"]["total"].as_f64().is_some());
     assert_eq!(v["eigenvalues_regular"].as_array().unwrap().len(), 6);
     assert_eq!(v["target_si"].as_array().unwrap().len(), 6);
@@ -109,6 +109,31 @@ fn localize_writes_the_json_schema_and_a_ply() {
             && head.contains("red"),
         "{head}"
     );
+}
+
+#[test]
+fn localize_start_options_reach_the_library() {
+    // --starts and --spectral-cuts change the number of starts (2 centres x 2 area-ball
+    // starts + 2 spectral cuts); a bad start shape is a usage error listing the names.
+    let d = demo_dir();
+    let json = tmp("localize-starts").join("r.json");
+    run(bin()
+        .args(["localize", "--quiet"])
+        .arg(d.join("full.off"))
+        .arg(d.join("partial.off"))
+        .args(["--k", "6", "--centers", "2", "--iterations", "3"])
+        .args(["--starts", "area-ball", "--spectral-cuts", "1", "--json"])
+        .arg(&json));
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(v["n_starts"], 6);
+    let out = bin()
+        .args(["localize", "a.off", "b.off", "--starts", "balls"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("balls-and-wide-bumps") && err.contains("area-ball"), "{err}");
 }
 
 #[test]

@@ -103,7 +103,7 @@ impl Localization {
 
 /// Native `localize`: arrays already converted to float64 (n, 3) / int64 (m, 3) by the Python layer.
 #[pyfunction]
-#[pyo3(signature = (full_vertices, full_faces, partial_vertices, partial_faces, mode, k, alpha, seed, resolution=None, centers=None, max_iterations=None, threads=None, selection=None, starts=None, progress=None))]
+#[pyo3(signature = (full_vertices, full_faces, partial_vertices, partial_faces, mode, k, alpha, seed, resolution=None, centers=None, max_iterations=None, threads=None, selection=None, starts=None, spectral_cuts=None, progress=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn localize(
     py: Python<'_>,
@@ -121,6 +121,7 @@ pub fn localize(
     threads: Option<usize>,
     selection: Option<&str>,
     starts: Option<&str>,
+    spectral_cuts: Option<usize>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Localization> {
     if let Some(cb) = &progress {
@@ -164,6 +165,7 @@ pub fn localize(
         threads: threads.unwrap_or(defaults.threads),
         selection,
         start_shape,
+        spectral_cuts: spectral_cuts.unwrap_or(defaults.spectral_cuts),
         ..defaults
     };
     let (handle, raised) = python_progress(progress);

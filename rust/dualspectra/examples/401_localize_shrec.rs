@@ -4,7 +4,8 @@
 //! `cargo run --release --example 401_localize_shrec -- DATASET [STRIDE] [OFFSET]`
 //! Options from the environment: DS_MODE, DS_K, DS_RES, DS_CENTERS, DS_ITERS, DS_FINALISTS,
 //! DS_SELECTION (gated, region, descriptors, cost), DS_DESC_START=1 (descriptor start),
-//! DS_HESSIAN (finite-difference, gauss-newton), DS_EXTRA, DS_START_SHAPE (a `StartShape` name);
+//! DS_HESSIAN (finite-difference, gauss-newton), DS_EXTRA, DS_START_SHAPE (a `StartShape` name),
+//! DS_SPECTRAL (spectral-cut eigenfunctions);
 //! DS_VERBOSE lists every start (`*`: finalist; `sup`/`agree`: its region's mean IoU with the
 //! other starts' regions and how many overlap it with IoU > 0.7); DS_PAIRS=a,b runs only the
 //! pairs whose name contains `a` or `b`; DS_REGION_STUDY prints the chosen start's region under
@@ -93,6 +94,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     o.centers = env("DS_CENTERS", o.centers);
     o.max_iterations = env("DS_ITERS", o.max_iterations);
     o.extra_iterations = env("DS_EXTRA", o.extra_iterations);
+    o.spectral_cuts = env("DS_SPECTRAL", o.spectral_cuts);
     o.finalists = env("DS_FINALISTS", o.finalists);
     o.descriptor_start = env("DS_DESC_START", 0) != 0;
     match env("DS_SELECTION", String::new()).as_str() {
@@ -212,6 +214,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     c.iterations
                 );
             }
+        }
+        // DS_POLISH=1: re-optimise from the chosen region and from the best start's region (as
+        // step potentials), one centre's starts beside them; prints their IoUs afterwards.
+        if std::env::var("DS_POLISH").is_ok() {
+            let best = (0..per_start.len()).max_by(|&a, &b| per_start[a].total_cmp(&per_start[b])).unwrap_or(0);
+            let seeds = vec![res.region.clone(), res.candidates[best].region.clone()];
+            let o2 = Options { centers: 1, ..o.clone() };
+            let r2 = localize_with_initial_regions(&p.full, &p.partial, &o2, &seeds, &Progress::none())?;
+            let c = &r2.candidates;
+            println!(
+                "    polish: chosen {:.3} -> {:.3} (cost {:.3e} -> {:.3e}), best {:.3} -> {:.3}; re-chosen {:.3} ({})",
+                chosen.iou, iou(&c[0].region), res.cost, c[0].cost, oracle, iou(&c[1].region),
+                iou(&r2.region), c[r2.selected_start].label
+            );
         }
         if std::env::var("DS_REGION_STUDY").is_ok() {
             region_study(&p.full, &p.partial, &res, &iou)?;

@@ -102,6 +102,11 @@ pub struct Options {
     pub hessian: HessianModel,
     /// The shape of the starting potentials (see [`StartShape`]).
     pub start_shape: StartShape,
+    /// Eigenfunctions of the full shape whose level sets give starts, two each (the region on
+    /// either side with the partial's area; see
+    /// [`crate::alignment::starts::spectral_cut_starts`]), besides the starts around the
+    /// centres. 0: none.
+    pub spectral_cuts: usize,
 }
 
 /// The shape of the starting potentials around each farthest-point centre.
@@ -241,6 +246,7 @@ impl Default for Options {
             selection: Selection::Gated,
             hessian: HessianModel::default(),
             start_shape: StartShape::default(),
+            spectral_cuts: 0,
         }
     }
 }

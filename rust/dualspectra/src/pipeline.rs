@@ -4,7 +4,9 @@
 
 use crate::alignment::cost::{potential_from_w, AlignmentCost, SpectrumTerm};
 use crate::alignment::descriptor_start::descriptor_baseline_mask;
-use crate::alignment::starts::{area_ball_starts, farthest_point_samples, gaussian_starts, mask_start, Start};
+use crate::alignment::starts::{
+    area_ball_starts, farthest_point_samples, gaussian_starts, mask_start, spectral_cut_starts, Start,
+};
 use crate::alignment::trust_region::{minimize, HessianOperator, Point, TrustRegionParams};
 use crate::error::{Error, Result};
 use crate::localize::internal::{check_options, largest_component};
@@ -174,6 +176,7 @@ pub(crate) fn run(
                 .collect()
         }
     };
+    starts.extend(spectral_cut_starts(&opt_shape, partial_area, options.spectral_cuts)?);
     // Protected starts (never pruned) first: given regions (on the full shape, read at the
     // vertex each decimated vertex came from), then the descriptor baseline.
     let mut protected: Vec<Start> = initial_regions

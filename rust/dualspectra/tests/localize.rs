@@ -80,6 +80,24 @@ fn every_start_shape_finds_an_undeformed_cut() {
 }
 
 #[test]
+fn spectral_cuts_find_the_end_of_an_elongated_shape() {
+    // The bumpy sphere stretched 2.5x along x and cut at x > 0.8: a cut across the long axis,
+    // which the first eigenfunction's level sets follow. The spectral-cut starts (two per
+    // eigenfunction, labelled cut{j}+ / cut{j}-) run beside the centres' and the cut is found.
+    let full = bumpy_sphere(3).map_positions(|p| [2.5 * p[0], p[1], p[2]]).unwrap();
+    let (part, truth) = cut(&full, |p| p[0] > 0.8);
+    let o = Options { centers: 1, spectral_cuts: 2, ..quick() };
+    let res = localize(&full, &part, &o, &Progress::none()).unwrap();
+    assert_eq!(res.n_starts, StartShape::default().starts_per_centre() + 4);
+    let labels: Vec<&str> = res.candidates.iter().map(|c| c.label.as_str()).collect();
+    for l in ["cut1+", "cut1-", "cut2+", "cut2-"] {
+        assert!(labels.contains(&l), "{labels:?}");
+    }
+    let score = iou(&res.region, &truth);
+    assert!(score > 0.9, "IoU {score} ({}), cost {}", labels[res.selected_start], res.cost);
+}
+
+#[test]
 fn start_shape_names_round_trip_and_match_serde() {
     assert_eq!(StartShape::ALL[0], StartShape::default());
     for s in StartShape::ALL {

@@ -89,6 +89,10 @@ pub struct LocalizeOptions {
     /// balls-and-wide-bumps].
     #[arg(long, value_name = "SHAPE", value_parser = start_shape_parser())]
     pub starts: Option<StartShape>,
+    /// Further starts from the full shape's first N eigenfunctions, two each (the region on
+    /// either side of a level set, with the partial's area) [default: the library's, 0].
+    #[arg(long, value_name = "N")]
+    pub spectral_cuts: Option<usize>,
     /// Trust-region iterations per start [default: the library's, 25].
     #[arg(long, value_name = "N")]
     pub iterations: Option<usize>,
@@ -137,6 +141,9 @@ impl LocalizeOptions {
         }
         if let Some(r) = self.resolution {
             o.resolution = r;
+        }
+        if let Some(n) = self.spectral_cuts {
+            o.spectral_cuts = n;
         }
         if let Some(f) = self.finalists {
             o.finalists = f;

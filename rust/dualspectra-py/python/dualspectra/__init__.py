@@ -92,6 +92,7 @@ def localize(
     starts: Optional[
         Literal["balls-and-wide-bumps", "balls-and-wide-gaussians", "gaussian", "area-ball"]
     ] = None,
+    spectral_cuts: Optional[int] = None,
     progress: Optional[ProgressCallback] = None,
 ) -> Localization:
     """Find the region of the full mesh that the partial mesh corresponds to.
@@ -121,6 +122,9 @@ def localize(
             ``"balls-and-wide-gaussians"`` (4: also the wide Gaussian well), ``"gaussian"``
             (4: the paper's Gaussians of two widths, both signs) or ``"area-ball"`` (2: the
             two balls only). Unknown names raise ``ValueError``.
+        spectral_cuts: further starts from the full shape's first eigenfunctions, two each
+            (the region on either side of a level set, with the partial's area); default 0.
+            They suit partials cut across a natural axis, e.g. the left half of a body.
         progress: optional ``callback(fraction, stage)``; returning ``False`` cancels.
 
     Returns:
@@ -150,6 +154,7 @@ def localize(
         _optional_count(threads, "threads"),
         selection,
         starts,
+        _optional_count(spectral_cuts, "spectral_cuts"),
         progress,
     )
 

@@ -87,6 +87,7 @@ def localize(
     threads: Optional[int] = None,
     selection: Optional[str] = None,
     starts: Optional[str] = None,
+    spectral_cuts: Optional[int] = None,
     progress: Optional[Callable[[float, str], Optional[bool]]] = None,
 ) -> Localization: ...
 def spectrum(

@@ -126,6 +126,37 @@ pub fn area_ball_starts(
     out
 }
 
+/// Spectral-cut starts: for each of the first `count` non-constant eigenfunctions $\phi_j$ of
+/// the shape's Laplace-Beltrami operator ($W\phi = \lambda A \phi$, Dirichlet on the shape's
+/// own boundary if it has one; the first eigenfunction, constant or nearly so, is skipped), a
+/// well on each side of a level set of $\phi_j$: $R_j^\pm$ holds the vertices of largest
+/// $\pm\phi_j$ up to the partial's `area`, and $w_0 = 2 - 4 R_j^\pm$ (labels `cut{j}+`,
+/// `cut{j}-`). The low eigenfunctions split a shape along its natural axes (head to tail, left
+/// to right, ...) intrinsically, so in any pose: a partial cut off by one cut across such an
+/// axis, e.g. the left half of a body, which no ball around an extremity approximates, is
+/// the region on one side. Fewer starts if the shape has too few free vertices.
+pub fn spectral_cut_starts(shape: &crate::shape::Shape, area: f64, count: usize) -> crate::error::Result<Vec<Start>> {
+    let dir = shape.dirichlet();
+    let k = (count + 1).min(dir.n_free().saturating_sub(1));
+    if count == 0 || k < 2 {
+        return Ok(Vec::new());
+    }
+    let spectrum = shape.dirichlet_spectrum(crate::shape::Metric::Regular, k)?;
+    let mut out = Vec::with_capacity(2 * (k - 1));
+    for j in 1..k {
+        let column: Vec<f64> = (0..spectrum.vectors.nrows()).map(|i| spectrum.vectors[(i, j)]).collect();
+        let phi = dir.extend(&column, 0.0);
+        for (sign, side) in [(1.0, '+'), (-1.0, '-')] {
+            let field: Vec<f64> = phi.iter().map(|x| sign * x).collect();
+            let region = crate::region::energy::area_matched_region(&field, shape.mass(), area);
+            let mut start = mask_start(&region, &format!("cut{j}{side}"));
+            start.family = "well";
+            out.push(start);
+        }
+    }
+    Ok(out)
+}
+
 /// The descriptor baseline start: $w_0 = 2 - 4 R_0$ (low potential on the mask).
 pub fn mask_start(mask: &[bool], label: &str) -> Start {
     Start { w0: mask.iter().map(|&m| if m { -2.0 } else { 2.0 }).collect(), label: label.to_string(), family: "mask" }
@@ -155,6 +186,42 @@ mod tests {
     /// Area of the vertices where `w0 < 0` (the start's well, `v < c`).
     fn well_area(w0: &[f64], mass: &[f64]) -> f64 {
         w0.iter().zip(mass).filter(|(w, _)| **w < 0.0).map(|(_, m)| m).sum()
+    }
+
+    #[test]
+    fn spectral_cuts_split_an_elongated_shape_across_its_long_axis() {
+        // An ellipsoid 3:1:1 along x: the first non-constant eigenfunction is odd in x, so
+        // its two cuts of 30% of the area are the caps at the two ends.
+        let mesh = crate::mesh::generate::icosphere(3).map_positions(|p| [3.0 * p[0], p[1], p[2]]).unwrap();
+        let shape = crate::shape::Shape::new(mesh);
+        let mass = shape.mass();
+        let total: f64 = mass.iter().sum();
+        let max_mass = mass.iter().cloned().fold(0.0, f64::max);
+        let starts = spectral_cut_starts(&shape, 0.3 * total, 3).unwrap();
+        assert_eq!(starts.len(), 6);
+        assert_eq!(starts[0].label, "cut1+");
+        assert_eq!(starts[1].label, "cut1-");
+        for s in &starts {
+            // The well holds the partial's area, to one vertex.
+            let a = well_area(&s.w0, mass);
+            assert!(a >= 0.3 * total && a <= 0.3 * total + max_mass, "{}: {a}", s.label);
+            assert!(s.w0.iter().all(|w| w.abs() == BALL_AMPLITUDE));
+        }
+        let v = shape.mesh().vertices();
+        let xs = |s: &Start| -> Vec<f64> { v.iter().zip(&s.w0).filter(|(_, w)| **w < 0.0).map(|(p, _)| p[0]).collect() };
+        let (a, b) = (xs(&starts[0]), xs(&starts[1]));
+        // Each well is one end cap (all x of one sign, beyond 1 of the 3 half-length), the two
+        // at opposite ends.
+        assert!(a.iter().all(|&x| x * a[0] > 0.0 && x.abs() > 1.0), "cut1+ is not one end cap");
+        assert!(b.iter().all(|&x| x * b[0] > 0.0 && x.abs() > 1.0), "cut1- is not one end cap");
+        assert!(a[0] * b[0] < 0.0);
+        // Deterministic; no starts asked, none given; more than the mesh holds, fewer given.
+        let again = spectral_cut_starts(&shape, 0.3 * total, 3).unwrap();
+        assert!(starts.iter().zip(&again).all(|(x, y)| x.w0 == y.w0 && x.label == y.label));
+        assert!(spectral_cut_starts(&shape, 0.3 * total, 0).unwrap().is_empty());
+        let tiny = crate::shape::Shape::new(crate::mesh::generate::icosphere(0));
+        let n = spectral_cut_starts(&tiny, 1.0, 50).unwrap().len();
+        assert!(n > 0 && n < 100, "{n} starts on 12 vertices");
     }
 
     #[test]
