@@ -7,6 +7,10 @@ a 16-pair mean by ~0.06). `gated` re-implements `alignment::selection::choose` (
 rule) and reproduces the logged choice.
 
     python3 docs/benchmarks/selection_study.py docs/benchmarks/shrec16-2026-11-24-s8-candidates.log
+
+`--max-cut M` keeps only the spectral-cut starts `cut1+` .. `cutM-` of a log (the others
+all): on `shrec16-2026-11-24-s10-candidates-spectral6.log` (default starts + 6 cuts),
+`--max-cut 0` is the session-10 default and 3, 4 the `--spectral-cuts` settings measured.
 """
 import math, re, sys, statistics
 
@@ -47,8 +51,22 @@ def gated(p, gate=3.0, floor_rms=0.1, beta=0.5, cost_gate=None):
 def mean(xs):
     return sum(xs) / len(xs) if xs else float('nan')
 
+def keep_cuts(pairs, max_cut):
+    """Drop the spectral-cut starts `cutJ+`/`cutJ-` with J > max_cut."""
+    def keep(c):
+        m = re.match(r'cut(\d+)[+-]$', c['label'])
+        return m is None or int(m.group(1)) <= max_cut
+    return [dict(p, cands=[c for c in p['cands'] if keep(c)],
+                 oracle=max(c['iou'] for c in p['cands'] if keep(c))) for p in pairs]
+
 if __name__ == '__main__':
-    pairs = [q for f in sys.argv[1:] for q in parse(f)]
+    args = sys.argv[1:]
+    max_cut = None
+    if args[:1] == ['--max-cut']:
+        max_cut, args = int(args[1]), args[2:]
+    pairs = [q for f in args for q in parse(f)]
+    if max_cut is not None:
+        pairs = keep_cuts(pairs, max_cut)
     print(f"{len(pairs)} pairs; logged chosen {mean([p['iou'] for p in pairs]):.3f} oracle {mean([p['oracle'] for p in pairs]):.3f}")
     halves = [[p for i, p in enumerate(pairs) if i % 2 == h] for h in (0, 1)]
     def report(name, rule):
