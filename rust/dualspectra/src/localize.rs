@@ -126,7 +126,8 @@ pub enum StartShape {
     /// (halves of 40: 0.721 / 0.651 against 0.733 / 0.591), best start 0.770 against 0.748,
     /// in the same time (16 pairs, same run: median 7.93 s against 7.90 s); `AreaBall` alone
     /// at 8 centres: 0.643 (best start 0.751). The balls suit partials cut off by one cut (a limb,
-    /// the rest of the body), the wide Gaussians the others (bands between two cuts).
+    /// the rest of the body); the wide Gaussians win where no ball around a centre fits the
+    /// cut (e.g. a cut across the torso).
     BallsAndWideGaussians,
     /// The two area-matched balls and the wide Gaussian bump: 3 starts per centre. The
     /// default: the wide Gaussian well was the least useful start (the best start of 10 of 80

@@ -176,7 +176,11 @@ pub(crate) fn run(
                 .collect()
         }
     };
-    starts.extend(spectral_cut_starts(&opt_shape, partial_area, options.spectral_cuts)?);
+    // Opt-in extra starts; if the full shape's spectrum fails, the other starts still run.
+    match spectral_cut_starts(&opt_shape, partial_area, options.spectral_cuts) {
+        Ok(cuts) => starts.extend(cuts),
+        Err(e) => warnings.push(format!("the spectral-cut starts were skipped: {e}")),
+    }
     // Protected starts (never pruned) first: given regions (on the full shape, read at the
     // vertex each decimated vertex came from), then the descriptor baseline.
     let mut protected: Vec<Start> = initial_regions
