@@ -186,6 +186,13 @@ class DUALSPECTRA_OT_localize(bpy.types.Operator):
         description="Trust-region iterations per start (0: library default, 25)",
         default=0, min=0, soft_max=200,
     )
+    spectral_cuts: IntProperty(
+        name="Spectral Cuts",
+        description="Further starts from the full shape's first N eigenfunctions, 2 each: the region on either "
+        "side of a level set with the partial's area (for a part cut across a natural axis, e.g. a half body; "
+        "0: none)",
+        default=0, min=0, soft_max=8,
+    )
     time_limit: FloatProperty(
         name="Time Limit",
         description="Stop with an error after this many seconds (0: no limit)",
@@ -217,6 +224,7 @@ class DUALSPECTRA_OT_localize(bpy.types.Operator):
         layout.prop(self, "seed")
         layout.prop(self, "centers")
         layout.prop(self, "max_iterations")
+        layout.prop(self, "spectral_cuts")
         layout.prop(self, "time_limit")
         layout.prop(self, "use_modifiers")
 
@@ -233,7 +241,11 @@ class DUALSPECTRA_OT_localize(bpy.types.Operator):
         self._full_mesh = full_mesh
         self._original_to_evaluated = original_to_evaluated
         # Optional tuning, passed only when set so the library's defaults apply otherwise.
-        tuning = {name: getattr(self, name) for name in ("centers", "max_iterations") if getattr(self, name) > 0}
+        tuning = {
+            name: getattr(self, name)
+            for name in ("centers", "max_iterations", "spectral_cuts")
+            if getattr(self, name) > 0
+        }
         return LocalizeJob(
             module,
             full_mesh.vertices,

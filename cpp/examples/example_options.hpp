@@ -25,6 +25,7 @@ inline const char* usage_text() {
          "options (defaults: the paper's settings):\n"
          "  --mode dual|lbo|si   --k N   --alpha A   --seed N   --resolution N (0: no decimation)\n"
          "  --centers N   --iterations N   --threads N (0: all cores)   --selection gated|region|descriptors|cost\n"
+         "  --starts balls-and-wide-bumps|balls-and-wide-gaussians|gaussian|area-ball   --spectral-cuts N\n"
          "  --indices FILE   also write the region's vertex indices (0-based, file order), one a line\n"
          "  --quiet          no progress on stderr\n";
 }
@@ -63,6 +64,13 @@ inline Args parse(int argc, char** argv) {
       else if (m == "descriptors") a.options.selection = dualspectra::Selection::Descriptors;
       else if (m == "cost") a.options.selection = dualspectra::Selection::Cost;
       else throw std::invalid_argument("--selection expects gated, region, descriptors or cost, got '" + m + "'");
+    } else if (arg == "--starts") {
+      const std::string m = value();
+      if (m == "balls-and-wide-bumps") a.options.start_shape = dualspectra::StartShape::BallsAndWideBumps;
+      else if (m == "balls-and-wide-gaussians") a.options.start_shape = dualspectra::StartShape::BallsAndWideGaussians;
+      else if (m == "gaussian") a.options.start_shape = dualspectra::StartShape::Gaussian;
+      else if (m == "area-ball") a.options.start_shape = dualspectra::StartShape::AreaBall;
+      else throw std::invalid_argument("--starts expects balls-and-wide-bumps, balls-and-wide-gaussians, gaussian or area-ball, got '" + m + "'");
     } else if (arg == "--k") a.options.k = to_size(arg, value());
     else if (arg == "--alpha") a.options.alpha = std::stod(value());
     else if (arg == "--seed") a.options.seed = to_size(arg, value());
@@ -70,6 +78,7 @@ inline Args parse(int argc, char** argv) {
     else if (arg == "--centers") a.options.centers = to_size(arg, value());
     else if (arg == "--iterations") a.options.max_iterations = to_size(arg, value());
     else if (arg == "--threads") a.options.threads = to_size(arg, value());
+    else if (arg == "--spectral-cuts") a.options.spectral_cuts = to_size(arg, value());
     else if (arg == "--indices") a.indices = value();
     else if (arg == "--quiet") a.quiet = true;
     else if (arg.size() > 1 && arg[0] == '-') throw std::invalid_argument("unknown option " + arg);

@@ -24,6 +24,10 @@ static_assert(static_cast<std::uint32_t>(Mode::Lbo) == DS_MODE_LBO, "Mode mirror
 static_assert(static_cast<std::uint32_t>(Mode::Si) == DS_MODE_SI, "Mode mirrors ds_mode");
 static_assert(static_cast<std::uint32_t>(Selection::Descriptors) == DS_SELECTION_DESCRIPTORS, "Selection mirrors ds_selection");
 static_assert(static_cast<std::uint32_t>(Selection::Cost) == DS_SELECTION_COST, "Selection mirrors ds_selection");
+static_assert(static_cast<std::uint32_t>(StartShape::BallsAndWideBumps) == DS_STARTS_BALLS_AND_WIDE_BUMPS, "StartShape mirrors ds_start_shape");
+static_assert(static_cast<std::uint32_t>(StartShape::BallsAndWideGaussians) == DS_STARTS_BALLS_AND_WIDE_GAUSSIANS, "StartShape mirrors ds_start_shape");
+static_assert(static_cast<std::uint32_t>(StartShape::Gaussian) == DS_STARTS_GAUSSIAN, "StartShape mirrors ds_start_shape");
+static_assert(static_cast<std::uint32_t>(StartShape::AreaBall) == DS_STARTS_AREA_BALL, "StartShape mirrors ds_start_shape");
 static_assert(static_cast<std::uint32_t>(Metric::Regular) == DS_METRIC_REGULAR, "Metric mirrors ds_metric");
 static_assert(static_cast<std::uint32_t>(Metric::ScaleInvariant) == DS_METRIC_SCALE_INVARIANT, "Metric mirrors ds_metric");
 static_assert(sizeof(Timings) == sizeof(ds_timings) && std::is_standard_layout<Timings>::value, "Timings mirrors ds_timings");

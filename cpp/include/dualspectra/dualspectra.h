@@ -38,6 +38,9 @@ typedef uint32_t ds_mode;
 // How `ds_localize` chooses among its optimised starts (`ds_options.selection`).
 typedef uint32_t ds_selection;
 
+// The starting potentials around each farthest-point centre (`ds_options.start_shape`).
+typedef uint32_t ds_start_shape;
+
 // Parameters of `ds_localize`. Start from `ds_options_default()` and change fields.
 typedef struct ds_options {
   // One of `DS_MODE_DUAL`, `DS_MODE_LBO`, `DS_MODE_SI`.
@@ -58,6 +61,12 @@ typedef struct ds_options {
   size_t threads;
   // One of `DS_SELECTION_DESCRIPTORS`, `DS_SELECTION_COST`, `DS_SELECTION_REGION`, `DS_SELECTION_GATED`.
   ds_selection selection;
+  // One of `DS_STARTS_BALLS_AND_WIDE_BUMPS`, `DS_STARTS_BALLS_AND_WIDE_GAUSSIANS`,
+  // `DS_STARTS_GAUSSIAN`, `DS_STARTS_AREA_BALL`.
+  ds_start_shape start_shape;
+  // Further starts from the full shape's first `spectral_cuts` eigenfunctions, two each (the
+  // region on either side of a level set, with the partial's area); 0: none (the default).
+  size_t spectral_cuts;
 } ds_options;
 
 // Progress callback: `fraction` in [0, 1] of the whole computation, `stage` a short
@@ -120,6 +129,19 @@ typedef struct ds_timings {
 // The lowest descriptor score among the candidates whose region cost is at most 3x the
 // lowest (the default).
 #define DS_SELECTION_GATED 3
+
+// A well on the ball with the partial's area, one on everything but a ball with the rest of
+// the area, and a wide Gaussian bump: 3 starts per centre (the default).
+#define DS_STARTS_BALLS_AND_WIDE_BUMPS 0
+
+// The two balls, and the wide Gaussian well and bump: 4 starts per centre.
+#define DS_STARTS_BALLS_AND_WIDE_GAUSSIANS 1
+
+// The reference's Gaussians, two widths, both signs: 4 starts per centre.
+#define DS_STARTS_GAUSSIAN 2
+
+// The two balls only: 2 starts per centre.
+#define DS_STARTS_AREA_BALL 3
 
 // The surface's own metric (Laplace-Beltrami spectrum).
 #define DS_METRIC_REGULAR 0

@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "rust/cxx.h"
-#include "dualspectra-ffi/src/cxx_bridge.rs.h"  // generated: Options, Timings, Mode, Selection, Metric, Status
+#include "dualspectra-ffi/src/cxx_bridge.rs.h"  // generated: Options, Timings, Mode, Selection, StartShape, Metric, Status
 
 namespace dualspectra {
 

@@ -61,6 +61,18 @@ pub const DS_SELECTION_REGION: ds_selection = 2;
 /// lowest (the default).
 pub const DS_SELECTION_GATED: ds_selection = 3;
 
+/// The starting potentials around each farthest-point centre (`ds_options.start_shape`).
+pub type ds_start_shape = u32;
+/// A well on the ball with the partial's area, one on everything but a ball with the rest of
+/// the area, and a wide Gaussian bump: 3 starts per centre (the default).
+pub const DS_STARTS_BALLS_AND_WIDE_BUMPS: ds_start_shape = 0;
+/// The two balls, and the wide Gaussian well and bump: 4 starts per centre.
+pub const DS_STARTS_BALLS_AND_WIDE_GAUSSIANS: ds_start_shape = 1;
+/// The reference's Gaussians, two widths, both signs: 4 starts per centre.
+pub const DS_STARTS_GAUSSIAN: ds_start_shape = 2;
+/// The two balls only: 2 starts per centre.
+pub const DS_STARTS_AREA_BALL: ds_start_shape = 3;
+
 /// Which metric a spectrum is computed in.
 pub type ds_metric = u32;
 /// The surface's own metric (Laplace-Beltrami spectrum).
@@ -102,6 +114,12 @@ pub struct ds_options {
     pub threads: usize,
     /// One of `DS_SELECTION_DESCRIPTORS`, `DS_SELECTION_COST`, `DS_SELECTION_REGION`, `DS_SELECTION_GATED`.
     pub selection: ds_selection,
+    /// One of `DS_STARTS_BALLS_AND_WIDE_BUMPS`, `DS_STARTS_BALLS_AND_WIDE_GAUSSIANS`,
+    /// `DS_STARTS_GAUSSIAN`, `DS_STARTS_AREA_BALL`.
+    pub start_shape: ds_start_shape,
+    /// Further starts from the full shape's first `spectral_cuts` eigenfunctions, two each (the
+    /// region on either side of a level set, with the partial's area); 0: none (the default).
+    pub spectral_cuts: usize,
 }
 
 /// Wall-clock seconds per stage of `ds_localize`.
@@ -465,6 +483,8 @@ pub extern "C" fn ds_options_default() -> ds_options {
             max_iterations: 1,
             threads: 0,
             selection: DS_SELECTION_DESCRIPTORS,
+            start_shape: DS_STARTS_BALLS_AND_WIDE_BUMPS,
+            spectral_cuts: 0,
         },
         || crate::options_to_c(&Options::default()),
     )

@@ -44,6 +44,19 @@ pub mod ffi {
         Gated = 3,
     }
 
+    /// The starting potentials around each farthest-point centre.
+    #[repr(u32)]
+    enum StartShape {
+        /// The area-matched ball and coball and a wide Gaussian bump: 3 per centre (default).
+        BallsAndWideBumps = 0,
+        /// The two balls and the wide Gaussian well and bump: 4 per centre.
+        BallsAndWideGaussians = 1,
+        /// The reference's Gaussians, two widths, both signs: 4 per centre.
+        Gaussian = 2,
+        /// The two balls only: 2 per centre.
+        AreaBall = 3,
+    }
+
     /// The metric of a spectrum.
     #[repr(u32)]
     enum Metric {
@@ -82,6 +95,9 @@ pub mod ffi {
         /// Worker threads (0: all cores).
         threads: usize,
         selection: Selection,
+        start_shape: StartShape,
+        /// Further starts from the full shape's first eigenfunctions, two each (0: none).
+        spectral_cuts: usize,
     }
 
     /// Wall-clock seconds per stage of `localize`.
@@ -235,6 +251,8 @@ fn options_to_c(o: &ffi::Options) -> crate::c_abi::ds_options {
         max_iterations: o.max_iterations,
         threads: o.threads,
         selection: o.selection.repr,
+        start_shape: o.start_shape.repr,
+        spectral_cuts: o.spectral_cuts,
     }
 }
 
@@ -250,6 +268,8 @@ fn default_options() -> ffi::Options {
         max_iterations: o.max_iterations,
         threads: o.threads,
         selection: ffi::Selection { repr: o.selection },
+        start_shape: ffi::StartShape { repr: o.start_shape },
+        spectral_cuts: o.spectral_cuts,
     }
 }
 

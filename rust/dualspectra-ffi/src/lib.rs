@@ -15,7 +15,7 @@ pub mod c_abi;
 pub mod cxx_bridge;
 
 use dualspectra::shape::{Metric, Shape};
-use dualspectra::{Error, Localization, Mode, Options, Progress, Selection, TriMesh};
+use dualspectra::{Error, Localization, Mode, Options, Progress, Selection, StartShape, TriMesh};
 
 /// A mesh handle's payload: the core's [`Shape`] (the mesh with its operators cached on first
 /// use, so repeated curvature/spectrum queries on one handle do not recompute them).
@@ -108,6 +108,28 @@ pub(crate) fn selection_code(selection: Selection) -> u32 {
     }
 }
 
+pub(crate) fn start_shape_from_code(code: u32) -> Result<StartShape, Error> {
+    match code {
+        c_abi::DS_STARTS_BALLS_AND_WIDE_BUMPS => Ok(StartShape::BallsAndWideBumps),
+        c_abi::DS_STARTS_BALLS_AND_WIDE_GAUSSIANS => Ok(StartShape::BallsAndWideGaussians),
+        c_abi::DS_STARTS_GAUSSIAN => Ok(StartShape::Gaussian),
+        c_abi::DS_STARTS_AREA_BALL => Ok(StartShape::AreaBall),
+        _ => Err(Error::InvalidArgument(format!(
+            "unknown start shape {code} (expected 0 = balls and wide bumps, 1 = balls and wide \
+             Gaussians, 2 = Gaussian, 3 = area ball)"
+        ))),
+    }
+}
+
+pub(crate) fn start_shape_code(shape: StartShape) -> u32 {
+    match shape {
+        StartShape::BallsAndWideBumps => c_abi::DS_STARTS_BALLS_AND_WIDE_BUMPS,
+        StartShape::BallsAndWideGaussians => c_abi::DS_STARTS_BALLS_AND_WIDE_GAUSSIANS,
+        StartShape::Gaussian => c_abi::DS_STARTS_GAUSSIAN,
+        StartShape::AreaBall => c_abi::DS_STARTS_AREA_BALL,
+    }
+}
+
 /// Options from the C struct (the same fields as the C++ one). Ranges are checked by the core's
 /// `localize` (each violation is an `InvalidArgument`).
 pub(crate) fn options_from_c(o: &c_abi::ds_options) -> Result<Options, Error> {
@@ -122,6 +144,8 @@ pub(crate) fn options_from_c(o: &c_abi::ds_options) -> Result<Options, Error> {
         max_iterations: o.max_iterations,
         threads: o.threads,
         selection: selection_from_code(o.selection)?,
+        start_shape: start_shape_from_code(o.start_shape)?,
+        spectral_cuts: o.spectral_cuts,
         ..Options::default()
     })
 }
@@ -137,6 +161,8 @@ pub(crate) fn options_to_c(o: &Options) -> c_abi::ds_options {
         max_iterations: o.max_iterations,
         threads: o.threads,
         selection: selection_code(o.selection),
+        start_shape: start_shape_code(o.start_shape),
+        spectral_cuts: o.spectral_cuts,
     }
 }
 

@@ -207,12 +207,14 @@ fn options_round_trip_and_are_checked() {
     assert_eq!((o.mode, o.k, o.alpha, o.seed), (DS_MODE_DUAL, d.k, d.alpha, d.seed));
     assert_eq!((o.resolution, o.centers, o.max_iterations, o.threads), (d.resolution, d.centers, d.max_iterations, d.threads));
     assert_eq!(o.selection, DS_SELECTION_GATED);
+    assert_eq!((o.start_shape, o.spectral_cuts), (DS_STARTS_BALLS_AND_WIDE_BUMPS, d.spectral_cuts));
     let full = create(&icosphere(2));
     let part = create(&disk(0.5, 4));
     let mut r = ptr::null_mut();
     for bad in [
         ds_options { mode: 9, ..o },
         ds_options { selection: 9, ..o },
+        ds_options { start_shape: 9, ..o },
         ds_options { k: 0, ..o },
         ds_options { alpha: f64::INFINITY, ..o },
         ds_options { max_iterations: 0, ..o },
@@ -264,6 +266,30 @@ fn cancel_from_the_callback() {
     assert_eq!(s, DS_CANCELLED, "{}", last_error());
     assert!(r.is_null());
     assert_eq!(calls.fractions.len(), 1, "no call after the one that returned 0");
+}
+
+#[test]
+fn start_options_reach_the_core() {
+    // Each start shape gives its number of starts per centre, plus two per spectral cut.
+    let (full, cap) = small_pair();
+    let (hf, hp) = (create(&full), create(&cap));
+    for (shape, per_centre) in [
+        (DS_STARTS_BALLS_AND_WIDE_BUMPS, 3),
+        (DS_STARTS_BALLS_AND_WIDE_GAUSSIANS, 4),
+        (DS_STARTS_GAUSSIAN, 4),
+        (DS_STARTS_AREA_BALL, 2),
+    ] {
+        let o = ds_options { start_shape: shape, spectral_cuts: 1, max_iterations: 2, ..fast_options() };
+        let mut r = ptr::null_mut();
+        let s = unsafe { ds_localize(hf.0, hp.0, &o, None, ptr::null_mut(), &mut r) };
+        assert_eq!(s, DS_OK, "{}", last_error());
+        let (mut sel, mut ns) = (usize::MAX, 0usize);
+        unsafe {
+            assert_eq!(ds_result_starts(r, &mut sel, &mut ns), DS_OK);
+            ds_result_destroy(r);
+        }
+        assert_eq!(ns, per_centre * o.centers + 2, "start shape {shape}");
+    }
 }
 
 #[test]
