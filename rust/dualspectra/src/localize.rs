@@ -105,7 +105,7 @@ pub struct Options {
     /// Eigenfunctions of the full shape whose level sets give starts, two each (the region on
     /// either side with the partial's area; see
     /// [`crate::alignment::starts::spectral_cut_starts`]), besides the starts around the
-    /// centres. 0: none.
+    /// centres. 0: none; at most [`MAX_SPECTRAL_CUTS`].
     pub spectral_cuts: usize,
 }
 
@@ -330,6 +330,10 @@ pub(crate) struct StartOutcome {
 /// enough vertices for `k` eigenvalues).
 pub const MIN_RESOLUTION: usize = 200;
 
+/// Upper bound of [`Options::spectral_cuts`]: beyond the first few dozen eigenfunctions the
+/// level sets are fine-scale ripples, not cuts, and each adds two full optimisations.
+pub const MAX_SPECTRAL_CUTS: usize = 50;
+
 pub(crate) fn check_options(o: &Options) -> Result<()> {
     if o.k == 0 || o.k > 500 {
         return Err(Error::InvalidArgument(format!(
@@ -347,6 +351,12 @@ pub(crate) fn check_options(o: &Options) -> Result<()> {
         return Err(Error::InvalidArgument(
             "max_iterations must be at least 1".into(),
         ));
+    }
+    if o.spectral_cuts > MAX_SPECTRAL_CUTS {
+        return Err(Error::InvalidArgument(format!(
+            "spectral_cuts = {} must be at most {MAX_SPECTRAL_CUTS} (two starts each)",
+            o.spectral_cuts
+        )));
     }
     if o.resolution != 0 && o.resolution < MIN_RESOLUTION {
         return Err(Error::InvalidArgument(format!(

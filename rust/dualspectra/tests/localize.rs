@@ -172,6 +172,8 @@ fn bad_inputs_give_clear_errors() {
     // Bad options.
     let e = localize(&full, &part, &Options { k: 0, ..quick() }, &Progress::none()).unwrap_err();
     assert!(matches!(e, Error::InvalidArgument(_)), "{e}");
+    let e = localize(&full, &part, &Options { spectral_cuts: 1_000_000, ..quick() }, &Progress::none()).unwrap_err();
+    assert!(e.to_string().contains("spectral_cuts"), "{e}");
     // Too many eigenvalues for a tiny partial.
     let (tiny, _) = cut(&full, |p| p[2] > 0.93);
     let e = localize(&full, &tiny, &Options { k: 200, ..quick() }, &Progress::none()).unwrap_err();
