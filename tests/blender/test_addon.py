@@ -426,6 +426,14 @@ def test_error_time_limit():
     assert "dualspectra_score" not in full.data.attributes
 
 
+def test_spectral_cuts_reach_the_library():
+    """The Spectral Cuts property is passed to the library: above the library's bound (50) the
+    operator reports the library's error (with the default 0 the argument is not passed)."""
+    full, part = scene_pair()
+    expect_operator_error(["spectral_cuts", "50"], partial_object=part.name, spectral_cuts=51, **LIB_OPTIONS)
+    assert "dualspectra_score" not in full.data.attributes
+
+
 def test_poll_needs_active_mesh():
     clear_scene()
     bpy.ops.object.empty_add()
