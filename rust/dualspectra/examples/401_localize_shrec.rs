@@ -13,7 +13,8 @@
 
 use dualspectra::evaluation::datasets::Shrec16;
 use dualspectra::evaluation::metrics::{scores, symmetry_aware};
-use dualspectra::mesh::topology::{connected_components, edge_face_counts, euler_characteristic};
+use dualspectra::mesh::topology::{connected_components, euler_characteristic};
+use dualspectra::region::boundary::region_boundary_length;
 use dualspectra::mesh::TriMesh;
 use dualspectra::{localize_with_initial_regions, Options, Progress, Selection};
 
@@ -36,19 +37,10 @@ fn region_shape(mesh: &TriMesh, region: Option<&[bool]>) -> (i64, usize, f64) {
     let Ok((sub, _)) = TriMesh::new_dropping_isolated(mesh.vertices().to_vec(), faces) else {
         return (0, 0, 0.0);
     };
-    let v = sub.vertices();
-    let blen: f64 = edge_face_counts(&sub)
-        .into_iter()
-        .filter(|&(_, c)| c == 1)
-        .map(|((a, b), _)| {
-            let (p, q) = (v[a as usize], v[b as usize]);
-            ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
-        })
-        .sum();
     (
         euler_characteristic(&sub),
         connected_components(&sub).1,
-        blen,
+        region_boundary_length(&sub, None),
     )
 }
 
@@ -72,7 +64,7 @@ fn region_study(
     for (name, field) in [("energy", &res.score), ("potential", &neg_v), ("mix", &mix)] {
         for f in [0.8, 0.9, 1.0, 1.1, 1.2] {
             let r = area_matched_region(field, &mass, f * area);
-            let c = close(&r, &nb, 4)?;
+            let c = close(&r, &nb, dualspectra::region::CLOSING_RINGS)?;
             line += &format!(" {name}{f}:{:.3}/{:.3}", iou(&r), iou(&c));
         }
     }
@@ -178,14 +170,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             println!("    partial: chi {pchi} comp {pcomp} blen {plen:.3}");
             // Agreement of each candidate's region with the others' (mean IoU, and how many
             // overlap it with IoU > 0.7): regions several starts converge to.
-            let overlap = |a: &[bool], b: &[bool]| {
-                let (mut i, mut u) = (0usize, 0usize);
-                for (&x, &y) in a.iter().zip(b) {
-                    i += (x && y) as usize;
-                    u += (x || y) as usize;
-                }
-                if u == 0 { 0.0 } else { i as f64 / u as f64 }
-            };
             let support: Vec<(f64, usize)> = res
                 .candidates
                 .iter()
@@ -196,11 +180,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                         .iter()
                         .enumerate()
                         .filter(|&(b, _)| b != a)
-                        .map(|(_, cb)| overlap(&ca.region, &cb.region))
-                        .collect();
-                    (o.iter().sum::<f64>() / o.len().max(1) as f64, o.iter().filter(|&&x| x > 0.7).count())
+                        .map(|(_, cb)| scores(&ca.region, &cb.region).map(|s| s.iou))
+                        .collect::<Result<_, _>>()?;
+                    Ok((o.iter().sum::<f64>() / o.len().max(1) as f64, o.iter().filter(|&&x| x > 0.7).count()))
                 })
-                .collect();
+                .collect::<Result<_, dualspectra::Error>>()?;
             for ((c, i), (sup, agree)) in res.candidates.iter().zip(&per_start).zip(&support) {
                 let (chi, comp, blen) = region_shape(&p.full, Some(&c.region));
                 println!(
