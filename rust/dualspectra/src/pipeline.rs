@@ -5,7 +5,7 @@
 use crate::alignment::cost::{potential_from_w, AlignmentCost, SpectrumTerm};
 use crate::alignment::descriptor_start::descriptor_baseline_mask;
 use crate::alignment::starts::{
-    area_ball_starts, farthest_point_samples, gaussian_starts, mask_start, spectral_cut_starts, Start,
+    area_ball_starts, farthest_point_samples, gaussian_pair, gaussian_starts, mask_start, spectral_cut_starts, Start,
 };
 use crate::alignment::trust_region::{minimize, HessianOperator, Point, TrustRegionParams};
 use crate::error::{Error, Result};
@@ -160,19 +160,16 @@ pub(crate) fn run(
         StartShape::Gaussian => gaussian_starts(pts, &centres, &[sigma, 2.0 * sigma]),
         StartShape::AreaBall => balls(),
         StartShape::BallsAndWideGaussians | StartShape::BallsAndWideBumps => {
-            let balls = balls();
-            // The 2-sigma Gaussians (well, bump per centre), labelled "sigma1" as in
-            // `StartShape::Gaussian`.
-            let wide: Vec<Start> = gaussian_starts(pts, &centres, &[sigma, 2.0 * sigma])
-                .into_iter()
-                .filter(|s| s.label.ends_with("/sigma1"))
-                .collect();
             let keep_wells = options.start_shape == StartShape::BallsAndWideGaussians;
-            // Per centre: ball, coball, (wide well,) wide bump.
-            balls
+            // Per centre: ball, coball, (wide well,) wide bump; the 2-sigma Gaussians are
+            // labelled "sigma1" as in `StartShape::Gaussian`.
+            balls()
                 .chunks(2)
-                .zip(wide.chunks(2))
-                .flat_map(|(b, g)| b.iter().chain(g.iter().filter(|s| keep_wells || s.family == "bump")).cloned())
+                .zip(&centres)
+                .flat_map(|(b, &c)| {
+                    let wide = gaussian_pair(pts, c, 2.0 * sigma, 1);
+                    b.to_vec().into_iter().chain(wide.into_iter().filter(|s| keep_wells || s.family == "bump"))
+                })
                 .collect()
         }
     };

@@ -55,19 +55,27 @@ pub fn farthest_point_samples(points: &[[f64; 3]], count: usize, seed: u64) -> V
     chosen
 }
 
-/// Gaussian starts: for each centre and width, `w0 = a(g - 1/2)` ("well") and `w0 = a(1/2 - g)` ("bump").
+/// Gaussian starts: for each centre and width, `w0 = a(g - 1/2)` ("well") and `w0 = a(1/2 - g)`
+/// ("bump"), labelled `well@{c}/sigma{i}`, `i` the width's index in `sigmas`.
 pub fn gaussian_starts(points: &[[f64; 3]], centres: &[usize], sigmas: &[f64]) -> Vec<Start> {
     let mut out = Vec::with_capacity(centres.len() * sigmas.len() * 2);
     for &c in centres {
         for (si, &sigma) in sigmas.iter().enumerate() {
-            let g: Vec<f64> =
-                points.iter().map(|&p| 1.0 - (-dist2(p, points[c]) / (2.0 * sigma * sigma)).exp()).collect();
-            let a = START_AMPLITUDE;
-            out.push(Start { w0: g.iter().map(|x| a * (x - 0.5)).collect(), label: format!("well@{c}/sigma{si}"), family: "well" });
-            out.push(Start { w0: g.iter().map(|x| a * (0.5 - x)).collect(), label: format!("bump@{c}/sigma{si}"), family: "bump" });
+            out.extend(gaussian_pair(points, c, sigma, si));
         }
     }
     out
+}
+
+/// The well and the bump of one Gaussian of width `sigma` around centre `c` (see
+/// [`gaussian_starts`]), labelled with the width index `width_index`.
+pub fn gaussian_pair(points: &[[f64; 3]], c: usize, sigma: f64, width_index: usize) -> [Start; 2] {
+    let g: Vec<f64> = points.iter().map(|&p| 1.0 - (-dist2(p, points[c]) / (2.0 * sigma * sigma)).exp()).collect();
+    let a = START_AMPLITUDE;
+    [
+        Start { w0: g.iter().map(|x| a * (x - 0.5)).collect(), label: format!("well@{c}/sigma{width_index}"), family: "well" },
+        Start { w0: g.iter().map(|x| a * (0.5 - x)).collect(), label: format!("bump@{c}/sigma{width_index}"), family: "bump" },
+    ]
 }
 
 /// Amplitude of the area-matched starts, $w_0 = \pm 2 \tanh((d - r)/h)$: the same extremes
