@@ -5,7 +5,7 @@
 //! Options from the environment: DS_MODE, DS_K, DS_RES, DS_CENTERS, DS_ITERS, DS_FINALISTS,
 //! DS_SELECTION (gated, region, descriptors, cost), DS_DESC_START=1 (descriptor start),
 //! DS_HESSIAN (finite-difference, gauss-newton), DS_EXTRA, DS_START_SHAPE (a `StartShape` name),
-//! DS_SPECTRAL (spectral-cut eigenfunctions), DS_SCREEN (starts kept by screening);
+//! DS_SPECTRAL (spectral-cut eigenfunctions);
 //! DS_VERBOSE lists every start (`*`: finalist; `sup`/`agree`: its region's mean IoU with the
 //! other starts' regions and how many overlap it with IoU > 0.7); DS_PAIRS=a,b runs only the
 //! pairs whose name contains `a` or `b`; DS_REGION_STUDY prints the chosen start's region under
@@ -87,7 +87,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     o.max_iterations = env("DS_ITERS", o.max_iterations);
     o.extra_iterations = env("DS_EXTRA", o.extra_iterations);
     o.spectral_cuts = env("DS_SPECTRAL", o.spectral_cuts);
-    o.screen = env("DS_SCREEN", o.screen);
     o.finalists = env("DS_FINALISTS", o.finalists);
     o.descriptor_start = env("DS_DESC_START", 0) != 0;
     match env("DS_SELECTION", String::new()).as_str() {
@@ -189,16 +188,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             for ((c, i), (sup, agree)) in res.candidates.iter().zip(&per_start).zip(&support) {
                 let (chi, comp, blen) = region_shape(&p.full, Some(&c.region));
                 println!(
-                    "  {} {:<20} cost {:10.3e} sel {:10.4e} rc {:10.3e} iou {:.3} it {} chi {chi} comp {comp} blen {blen:.3} sup {sup:.3} agree {agree} s0 {:.4e} r0 {:.3e}",
+                    "  {} {:<20} cost {:10.3e} sel {:10.4e} rc {:10.3e} iou {:.3} it {} chi {chi} comp {comp} blen {blen:.3} sup {sup:.3} agree {agree}",
                     if c.finalist { '*' } else { ' ' },
                     c.label,
                     c.cost,
                     c.selection_score,
                     c.region_cost,
                     i,
-                    c.iterations,
-                    c.start_selection_score,
-                    c.start_region_cost
+                    c.iterations
                 );
             }
         }

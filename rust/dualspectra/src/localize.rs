@@ -107,11 +107,6 @@ pub struct Options {
     /// [`crate::alignment::starts::spectral_cut_starts`]), besides the starts around the
     /// centres. 0: none; at most [`MAX_SPECTRAL_CUTS`].
     pub spectral_cuts: usize,
-    /// Screening of the starts before any optimisation: every prunable start's initial region
-    /// (its lowest potential, up to the partial's area) is scored as a finished candidate is
-    /// (region cost and descriptor projection), and only the best `screen` starts are
-    /// optimised. 0: no screening, every start is optimised.
-    pub screen: usize,
 }
 
 /// The shape of the starting potentials around each farthest-point centre.
@@ -253,7 +248,6 @@ impl Default for Options {
             hessian: HessianModel::default(),
             start_shape: StartShape::default(),
             spectral_cuts: 0,
-            screen: 0,
         }
     }
 }
@@ -315,9 +309,6 @@ pub struct Candidate {
     pub finalist: bool,
     /// Region on the full mesh's vertices.
     pub region: Vec<bool>,
-    /// Descriptor score and region cost of the start's initial region (NaN without screening).
-    pub start_selection_score: f64,
-    pub start_region_cost: f64,
 }
 
 /// What one start produced.

@@ -197,7 +197,7 @@ pub(crate) fn run(
     // start and the selection.
     let radius = crate::alignment::shot::DEFAULT_RADIUS_FRACTION;
     let min_nb = crate::alignment::shot::DEFAULT_MIN_NEIGHBORS;
-    let shot = if options.descriptor_start || options.selection != Selection::Cost || options.screen > 0 {
+    let shot = if options.descriptor_start || options.selection != Selection::Cost {
         Some((
             if opt_shape.n_vertices() < full_n.n_vertices() {
                 // The optimisation mesh's vertices described with their support at the data's
@@ -223,72 +223,8 @@ pub(crate) fn run(
         protected.push(mask_start(&r0, "descriptors"));
     }
     let n_given = protected.len();
-    // One pool (`options.threads`, 0 = all cores) for the screening, the optimisation and the
-    // selection.
-    let workers = rayon::ThreadPoolBuilder::new()
-        .num_threads(options.threads)
-        .build()
-        .map_err(|e| Error::Numerical(format!("thread pool: {e}")))?;
-    // What the scores of a region need: the metrics, step heights and the partial's
-    // descriptor projections (only with descriptors).
-    let metrics: Vec<Metric> = terms.iter().map(|t| t.metric).collect();
-    let heights: Vec<f64> = terms.iter().map(|t| 2.0 * t.height).collect();
-    let target_values: Vec<Vec<f64>> = terms.iter().map(|t| t.target.clone()).collect();
-    let signatures = match &shot {
-        Some((_, d_part)) if options.selection != Selection::Cost || options.screen > 0 => Some(
-            crate::alignment::selection::partial_signatures(&part_shape, d_part, &metrics)?,
-        ),
-        _ => None,
-    };
-    // --- Screening: score each prunable start's initial region, keep the best `screen`.
-    let mut start_scores = vec![(f64::NAN, f64::NAN); starts.len()];
-    if let (true, Some((d_full, _)), Some(targets)) = (options.screen > 0, &shot, &signatures) {
-        let regions: Vec<Vec<bool>> = starts
-            .iter()
-            .map(|s| {
-                let low: Vec<f64> = s.w0.iter().map(|x| -x).collect();
-                area_matched_region(&low, opt_shape.mass(), partial_area)
-            })
-            .collect();
-        let sc = workers.install(|| {
-            crate::alignment::selection::selection_scores(
-                &opt_shape,
-                d_full,
-                &metrics,
-                targets,
-                &target_values,
-                &heights,
-                &regions,
-            )
-        })?;
-        start_scores = sc.descriptors.into_iter().zip(sc.region_cost).collect();
-        let mut order: Vec<usize> = (0..starts.len()).collect();
-        let key = |i: usize| {
-            let x = start_scores[i].1;
-            if x.is_nan() { f64::INFINITY } else { x }
-        };
-        order.sort_by(|&a, &b| key(a).total_cmp(&key(b)).then(a.cmp(&b)));
-        let mut keep = vec![false; starts.len()];
-        for &i in order.iter().take(options.screen) {
-            keep[i] = true;
-        }
-        let mut kept = Vec::new();
-        let mut kept_scores = Vec::new();
-        for (i, s) in starts.into_iter().enumerate() {
-            if keep[i] {
-                kept.push(s);
-                kept_scores.push(start_scores[i]);
-            }
-        }
-        starts = kept;
-        start_scores = kept_scores;
-    }
     protected.append(&mut starts);
     let starts = protected;
-    let start_scores: Vec<(f64, f64)> = std::iter::repeat((f64::NAN, f64::NAN))
-        .take(n_given)
-        .chain(start_scores)
-        .collect();
     let t_starts = t0.elapsed().as_secs_f64();
     if starts.is_empty() {
         return Err(Error::InvalidArgument("no starts (centers = 0)".into()));
@@ -303,6 +239,11 @@ pub(crate) fn run(
         + halving_survivors(&starts, n_given, &rounds, options.finalists)
             * options.extra_iterations;
     let worker_progress = Progress::none().with_cancel_flag(progress.cancel_flag());
+    // One pool (`options.threads`, 0 = all cores) for the optimisation and the selection.
+    let workers = rayon::ThreadPoolBuilder::new()
+        .num_threads(options.threads)
+        .build()
+        .map_err(|e| Error::Numerical(format!("thread pool: {e}")))?;
     let outcomes: Vec<Result<StartOutcome>> = std::thread::scope(|scope| {
         let handle = scope.spawn(|| {
             workers.install(|| {
@@ -339,14 +280,10 @@ pub(crate) fn run(
 
     // A start may fail numerically; the others still count. All failing is an error.
     let mut ok = Vec::new();
-    let mut ok_start_scores = Vec::new();
     let mut first_err = None;
-    for (o, sc) in outcomes.into_iter().zip(start_scores) {
+    for o in outcomes {
         match o {
-            Ok(o) => {
-                ok.push(o);
-                ok_start_scores.push(sc);
-            }
+            Ok(o) => ok.push(o),
             Err(Error::Cancelled) => return Err(Error::Cancelled),
             Err(e) => first_err = first_err.or(Some(e)),
         }
@@ -381,9 +318,11 @@ pub(crate) fn run(
     // Scores of the finalists (every start without pruning); NaN for the others.
     let mut selection = vec![f64::NAN; ok.len()];
     let mut region_costs = vec![f64::NAN; ok.len()];
-    if let (true, Some((d_full, _)), Some(targets)) =
-        (options.selection != Selection::Cost, &shot, &signatures)
-    {
+    if let (true, Some((d_full, d_part))) = (options.selection != Selection::Cost, &shot) {
+        let metrics: Vec<Metric> = terms.iter().map(|t| t.metric).collect();
+        let heights: Vec<f64> = terms.iter().map(|t| 2.0 * t.height).collect();
+        let targets =
+            crate::alignment::selection::partial_signatures(&part_shape, d_part, &metrics)?;
         let finalists: Vec<usize> = (0..ok.len()).filter(|&i| ok[i].finalist).collect();
         // The regions on the optimisation mesh, before transfer and closing. Scoring the
         // returned (closed) regions instead, read back at the optimisation vertices, was
@@ -391,12 +330,13 @@ pub(crate) fn run(
         // while warm-chained scoring solves still missed eigenvalues, see `selection_scores`).
         let finalist_regions: Vec<Vec<bool>> =
             finalists.iter().map(|&i| opt_regions[i].clone()).collect();
+        let target_values: Vec<Vec<f64>> = terms.iter().map(|t| t.target.clone()).collect();
         let scores = workers.install(|| {
             crate::alignment::selection::selection_scores(
                 &opt_shape,
                 d_full,
                 &metrics,
-                targets,
+                &targets,
                 &target_values,
                 &heights,
                 &finalist_regions,
@@ -459,8 +399,7 @@ pub(crate) fn run(
         .iter()
         .zip(full_regions)
         .zip(selection.iter().zip(&region_costs).zip(&misfit))
-        .zip(&ok_start_scores)
-        .map(|(((o, r), ((&sc, &rc), &bm)), &(s0, r0))| Candidate {
+        .map(|((o, r), ((&sc, &rc), &bm))| Candidate {
             label: o.label.clone(),
             cost: o.cost,
             selection_score: sc,
@@ -470,8 +409,6 @@ pub(crate) fn run(
             evaluations: o.evaluations,
             finalist: o.finalist,
             region: r,
-            start_selection_score: s0,
-            start_region_cost: r0,
         })
         .collect();
     progress.report(1.0, "done")?;
