@@ -300,9 +300,6 @@ pub struct Candidate {
     pub selection_score: f64,
     /// Alignment cost of the candidate's region as a step potential (NaN where not computed).
     pub region_cost: f64,
-    /// Mean distance from the region's descriptors to the nearest of the partial's
-    /// ([`crate::alignment::selection::descriptor_fit`]; NaN where not computed).
-    pub descriptor_fit: f64,
     /// $|\ln(L_R / L_N)|$: boundary length of the region against the partial's (NaN if either is 0).
     pub boundary_misfit: f64,
     pub iterations: usize,

@@ -318,7 +318,6 @@ pub(crate) fn run(
     // Scores of the finalists (every start without pruning); NaN for the others.
     let mut selection = vec![f64::NAN; ok.len()];
     let mut region_costs = vec![f64::NAN; ok.len()];
-    let mut fits = vec![f64::NAN; ok.len()];
     if let (true, Some((d_full, d_part))) = (options.selection != Selection::Cost, &shot) {
         let metrics: Vec<Metric> = terms.iter().map(|t| t.metric).collect();
         let heights: Vec<f64> = terms.iter().map(|t| 2.0 * t.height).collect();
@@ -347,16 +346,6 @@ pub(crate) fn run(
             selection[i] = scores.descriptors[j];
             region_costs[i] = scores.region_cost[j];
         }
-        let nearest_sq = workers.install(|| {
-            crate::alignment::descriptor_start::nearest_descriptor_distances(d_full, d_part)
-        })?;
-        for &i in &finalists {
-            fits[i] = crate::alignment::selection::descriptor_fit(
-                &nearest_sq,
-                opt_shape.mass(),
-                &opt_regions[i],
-            );
-        }
     }
     // Only finalists are chosen from (every start is a finalist without pruning); a start that
     // failed in the last round leaves its round's survivors to choose from.
@@ -380,13 +369,10 @@ pub(crate) fn run(
     let selected = crate::alignment::selection::choose(
         options.selection,
         &pool,
-        &crate::alignment::selection::CandidateScores {
-            cost: &costs,
-            descriptors: &selection,
-            region_cost: &region_costs,
-            descriptor_fit: &fits,
-            boundary_misfit: &misfit,
-        },
+        &costs,
+        &selection,
+        &region_costs,
+        &misfit,
         floor,
     );
     let t_sel = t0.elapsed().as_secs_f64();
@@ -413,13 +399,11 @@ pub(crate) fn run(
         .iter()
         .zip(full_regions)
         .zip(selection.iter().zip(&region_costs).zip(&misfit))
-        .zip(&fits)
-        .map(|(((o, r), ((&sc, &rc), &bm)), &fit)| Candidate {
+        .map(|((o, r), ((&sc, &rc), &bm))| Candidate {
             label: o.label.clone(),
             cost: o.cost,
             selection_score: sc,
             region_cost: rc,
-            descriptor_fit: fit,
             boundary_misfit: bm,
             iterations: o.iterations,
             evaluations: o.evaluations,

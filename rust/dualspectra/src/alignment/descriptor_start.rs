@@ -14,7 +14,6 @@ use crate::error::{Error, Result};
 use crate::region::energy::area_matched_region;
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, Par};
-use rayon::prelude::*;
 
 /// Descriptors of the partial compared per block (bounds the distance matrix's memory).
 const BLOCK: usize = 512;
@@ -36,29 +35,19 @@ pub fn nearest_descriptor_distances(a: &Mat<f64>, b: &Mat<f64>) -> Result<Vec<f6
         return Err(Error::Numerical("the partial shape has no usable descriptor".into()));
     }
     let a2: Vec<f64> = (0..a.nrows()).map(|i| norm2(a, i)).collect();
-    // Blocks in parallel (on the caller's rayon pool), then the element-wise minimum: the
-    // same result in any order.
-    let per_block: Vec<Vec<f64>> = keep
-        .par_chunks(BLOCK)
-        .map(|chunk| {
-            let bt = Mat::from_fn(a.ncols(), chunk.len(), |c, j| b[(chunk[j], c)]);
-            let b2: Vec<f64> = chunk.iter().map(|&j| norm2(b, j)).collect();
-            let mut dot = Mat::<f64>::zeros(a.nrows(), chunk.len());
-            matmul(dot.as_mut(), Accum::Replace, a.as_ref(), bt.as_ref(), 1.0, Par::Seq);
-            (0..a.nrows())
-                .map(|i| {
-                    b2.iter()
-                        .enumerate()
-                        .map(|(j, &b2j)| (a2[i] + b2j - 2.0 * dot[(i, j)]).max(0.0))
-                        .fold(f64::INFINITY, f64::min)
-                })
-                .collect()
-        })
-        .collect();
     let mut best = vec![f64::INFINITY; a.nrows()];
-    for block in per_block {
-        for (b, d) in best.iter_mut().zip(block) {
-            *b = b.min(d);
+    for chunk in keep.chunks(BLOCK) {
+        let bt = Mat::from_fn(a.ncols(), chunk.len(), |c, j| b[(chunk[j], c)]);
+        let b2: Vec<f64> = chunk.iter().map(|&j| norm2(b, j)).collect();
+        let mut dot = Mat::<f64>::zeros(a.nrows(), chunk.len());
+        matmul(dot.as_mut(), Accum::Replace, a.as_ref(), bt.as_ref(), 1.0, Par::Seq);
+        for (i, best_i) in best.iter_mut().enumerate() {
+            for (j, &b2j) in b2.iter().enumerate() {
+                let d = (a2[i] + b2j - 2.0 * dot[(i, j)]).max(0.0);
+                if d < *best_i {
+                    *best_i = d;
+                }
+            }
         }
     }
     Ok(best)

@@ -154,89 +154,57 @@ pub fn boundary_misfit(region_length: f64, partial_length: f64) -> f64 {
     }
 }
 
-/// Descriptor fit of a candidate region $R$ (lower is better):
-/// $f(R) = \sum_{i \in R} m_i\, d_i \,/\, \sum_{i \in R} m_i$, with
-/// $d_i = \min_j \lVert D_M(i) - D_N(j) \rVert$ the distance from vertex $i$'s descriptor to
-/// the nearest descriptor of the partial (`nearest_sq` holds $d_i^2$, as
-/// [`crate::alignment::descriptor_start::nearest_descriptor_distances`] returns them). How
-/// well the region's local shapes are all found on the partial; unlike the projection score
-/// it needs no eigenfunctions and does not blur the descriptors over the region. NaN for an
-/// empty region.
-pub fn descriptor_fit(nearest_sq: &[f64], mass: &[f64], region: &[bool]) -> f64 {
-    let (mut num, mut den) = (0.0, 0.0);
-    for ((&inside, &d2), &m) in region.iter().zip(nearest_sq).zip(mass) {
-        if inside {
-            num += m * d2.sqrt();
-            den += m;
-        }
-    }
-    if den > 0.0 {
-        num / den
-    } else {
-        f64::NAN
-    }
-}
-
-/// Per-candidate scores the rules of [`choose`] rank by, one entry per candidate (NaN where
-/// not computed; lower is better for all).
-#[derive(Debug, Clone, Copy)]
-pub struct CandidateScores<'a> {
-    /// Final alignment cost.
-    pub cost: &'a [f64],
-    /// Descriptor projection score ([`selection_scores`]).
-    pub descriptors: &'a [f64],
-    /// Region cost ([`RegionScores::region_cost`]).
-    pub region_cost: &'a [f64],
-    /// [`descriptor_fit`].
-    pub descriptor_fit: &'a [f64],
-    /// [`boundary_misfit`] (NaN or missing counts as 0).
-    pub boundary_misfit: &'a [f64],
-}
-
 /// The chosen candidate among `pool` (indices into the per-candidate arrays) by `rule`; ties
 /// go to the lower index, NaN scores rank last. `Gated`: among the candidates of the pool
 /// whose region cost is at most [`REGION_COST_GATE`] times the pool's lowest or at most
-/// `floor` (all of the pool if no region cost is finite), the lowest [`descriptor_fit`] times
-/// $\exp(\beta\,m)$, $m$ the [`boundary_misfit`] and $\beta$ = [`BOUNDARY_WEIGHT`].
-/// Returns 0 for an empty pool.
-pub fn choose(rule: Selection, pool: &[usize], scores: &CandidateScores<'_>, floor: f64) -> usize {
+/// `floor` (all of the pool if no region cost is finite), the lowest descriptor score times
+/// $\exp(\beta\,m)$, $m$ the [`boundary_misfit`] (NaN or missing counts as 0) and $\beta$ =
+/// [`BOUNDARY_WEIGHT`]. Returns 0 for an empty pool.
+pub fn choose(
+    rule: Selection,
+    pool: &[usize],
+    cost: &[f64],
+    descriptors: &[f64],
+    region_cost: &[f64],
+    misfit: &[f64],
+    floor: f64,
+) -> usize {
     let nan_last = |x: f64| if x.is_nan() { f64::INFINITY } else { x };
     let lowest = |values: &[f64], among: &[usize]| {
         among
             .iter()
             .copied()
             .min_by(|&a, &b| {
-                let (va, vb) = (values.get(a).copied(), values.get(b).copied());
-                nan_last(va.unwrap_or(f64::NAN))
-                    .total_cmp(&nan_last(vb.unwrap_or(f64::NAN)))
+                nan_last(values[a])
+                    .total_cmp(&nan_last(values[b]))
                     .then(a.cmp(&b))
             })
             .unwrap_or(0)
     };
     match rule {
-        Selection::Cost => lowest(scores.cost, pool),
-        Selection::Descriptors => lowest(scores.descriptors, pool),
-        Selection::Region => lowest(scores.region_cost, pool),
+        Selection::Cost => lowest(cost, pool),
+        Selection::Descriptors => lowest(descriptors, pool),
+        Selection::Region => lowest(region_cost, pool),
         Selection::Gated => {
-            let region_cost = |i: usize| scores.region_cost.get(i).copied().unwrap_or(f64::NAN);
             let best = pool
                 .iter()
-                .map(|&i| region_cost(i))
+                .map(|&i| region_cost[i])
                 .filter(|x| x.is_finite())
                 .fold(f64::INFINITY, f64::min);
             let gated: Vec<usize> = if best.is_finite() {
                 let gate = (REGION_COST_GATE * best).max(floor);
-                pool.iter().copied().filter(|&i| region_cost(i) <= gate).collect()
+                pool.iter()
+                    .copied()
+                    .filter(|&i| region_cost[i] <= gate)
+                    .collect()
             } else {
                 pool.to_vec()
             };
-            let weighted: Vec<f64> = scores
-                .descriptor_fit
+            let weighted: Vec<f64> = descriptors
                 .iter()
                 .enumerate()
                 .map(|(i, &d)| {
-                    let m = scores
-                        .boundary_misfit
+                    let m = misfit
                         .get(i)
                         .copied()
                         .filter(|m| !m.is_nan())
@@ -262,62 +230,151 @@ mod tests {
         const NO_MISFIT: [f64; 4] = [f64::NAN; 4];
         let cost = [0.1, 5.0, 0.2, 9.0];
         let desc = [40.0, 10.0, 30.0, 20.0];
-        let fit = [4.0, 1.0, 3.0, 2.0];
         let region = [90.0, 3.0, 2.0, f64::NAN];
         let all = [0, 1, 2, 3];
-        let scores = |descriptors: &'static [f64], descriptor_fit: &'static [f64], region_cost: &'static [f64], boundary_misfit: &'static [f64]| CandidateScores {
-            cost: &[0.1, 5.0, 0.2, 9.0],
-            descriptors,
-            region_cost,
-            descriptor_fit,
-            boundary_misfit,
-        };
-        let s = CandidateScores { cost: &cost, descriptors: &desc, region_cost: &region, descriptor_fit: &fit, boundary_misfit: &NO_MISFIT };
-        assert_eq!(choose(Selection::Cost, &all, &s, 0.0), 0);
-        assert_eq!(choose(Selection::Descriptors, &all, &s, 0.0), 1);
-        assert_eq!(choose(Selection::Region, &all, &s, 0.0), 2);
-        // Gate: region costs <= 3 x 2.0 keep 1 and 2 (not 0: 90, not 3: NaN); lowest fit is 1.
-        assert_eq!(choose(Selection::Gated, &all, &s, 0.0), 1);
-        // The gate ranks by the descriptor fit, not by the projection score.
-        let s2 = scores(&[40.0, 10.0, 30.0, 20.0], &[4.0, 3.0, 1.0, 2.0], &[90.0, 3.0, 2.0, f64::NAN], &NO_MISFIT);
-        assert_eq!(choose(Selection::Gated, &all, &s2, 0.0), 2);
-        assert_eq!(choose(Selection::Descriptors, &all, &s2, 0.0), 1);
+        assert_eq!(
+            choose(
+                Selection::Cost,
+                &all,
+                &cost,
+                &desc,
+                &region,
+                &NO_MISFIT,
+                0.0
+            ),
+            0
+        );
+        assert_eq!(
+            choose(
+                Selection::Descriptors,
+                &all,
+                &cost,
+                &desc,
+                &region,
+                &NO_MISFIT,
+                0.0
+            ),
+            1
+        );
+        assert_eq!(
+            choose(
+                Selection::Region,
+                &all,
+                &cost,
+                &desc,
+                &region,
+                &NO_MISFIT,
+                0.0
+            ),
+            2
+        );
+        // Gate: region costs <= 3 x 2.0 keep 1 and 2 (not 0: 90, not 3: NaN); lowest desc is 1.
+        assert_eq!(
+            choose(
+                Selection::Gated,
+                &all,
+                &cost,
+                &desc,
+                &region,
+                &NO_MISFIT,
+                0.0
+            ),
+            1
+        );
         // Only the pool counts: without 1, the gate keeps 2 alone.
-        assert_eq!(choose(Selection::Gated, &[0, 2, 3], &s, 0.0), 2);
-        // A wider gate admits the better fit.
-        let s3 = scores(&[0.0; 3], &[1.0, 3.0, 0.5], &[5.0, 2.0, 7.0], &NO_MISFIT);
-        assert_eq!(choose(Selection::Gated, &[0, 1, 2], &s3, 0.0), 0);
-        // No finite region cost: the fit alone.
-        let s4 = scores(&[0.0; 4], &[4.0, 1.0, 3.0, 2.0], &[f64::NAN; 4], &NO_MISFIT);
-        assert_eq!(choose(Selection::Gated, &all, &s4, 0.0), 1);
-        assert_eq!(choose(Selection::Cost, &[], &s, 0.0), 0);
+        assert_eq!(
+            choose(
+                Selection::Gated,
+                &[0, 2, 3],
+                &cost,
+                &desc,
+                &region,
+                &NO_MISFIT,
+                0.0
+            ),
+            2
+        );
+        // A wider gate admits the better descriptor score.
+        let region2 = [5.0, 2.0, 7.0];
+        assert_eq!(
+            choose(
+                Selection::Gated,
+                &[0, 1, 2],
+                &cost,
+                &[1.0, 3.0, 0.5],
+                &region2,
+                &NO_MISFIT,
+                0.0
+            ),
+            0
+        );
+        // No finite region cost: descriptors alone.
+        let nan = [f64::NAN; 4];
+        assert_eq!(
+            choose(Selection::Gated, &all, &cost, &desc, &nan, &NO_MISFIT, 0.0),
+            1
+        );
+        assert_eq!(
+            choose(Selection::Cost, &[], &cost, &desc, &region, &NO_MISFIT, 0.0),
+            0
+        );
         // All region costs small: the floor admits every good fit, not just 3x the best.
-        let s5 = scores(&[0.0; 4], &[9.0, 3.0, 2.0, 1.0], &[0.02, 0.13, 0.09, 0.4], &NO_MISFIT);
-        assert_eq!(choose(Selection::Gated, &all, &s5, 0.0), 0);
-        assert_eq!(choose(Selection::Gated, &all, &s5, 0.2), 2);
-        // A boundary far longer than the partial's (misfit ln 4) outweighs a 10% better fit;
-        // NaN misfit counts as a perfect fit.
+        let small = [0.02, 0.13, 0.09, 0.4];
+        assert_eq!(
+            choose(
+                Selection::Gated,
+                &all,
+                &cost,
+                &[9.0, 3.0, 2.0, 1.0],
+                &small,
+                &NO_MISFIT,
+                0.0
+            ),
+            0
+        );
+        assert_eq!(
+            choose(
+                Selection::Gated,
+                &all,
+                &cost,
+                &[9.0, 3.0, 2.0, 1.0],
+                &small,
+                &NO_MISFIT,
+                0.2
+            ),
+            2
+        );
+        // A boundary far longer than the partial's (misfit ln 4) outweighs a 10% better
+        // descriptor score; NaN misfit counts as a perfect fit.
         if BOUNDARY_WEIGHT > 0.0 {
-            let misfit: &'static [f64] = &[0.0, 1.3862943611198906, f64::NAN, 0.0];
-            let s6 = scores(&[0.0; 4], &[1.0, 0.9, 0.0, 0.0], &[1.0; 4], misfit);
-            assert_eq!(choose(Selection::Gated, &[0, 1], &s6, 0.0), 0);
-            let s7 = scores(&[0.0; 4], &[1.0, 0.9, 0.95, 0.0], &[1.0; 4], misfit);
-            assert_eq!(choose(Selection::Gated, &[1, 2], &s7, 0.0), 2);
+            let misfit = [0.0, 4f64.ln(), f64::NAN, 0.0];
+            assert_eq!(
+                choose(
+                    Selection::Gated,
+                    &[0, 1],
+                    &cost,
+                    &[1.0, 0.9, 0.0, 0.0],
+                    &[1.0; 4],
+                    &misfit,
+                    0.0
+                ),
+                0
+            );
+            assert_eq!(
+                choose(
+                    Selection::Gated,
+                    &[1, 2],
+                    &cost,
+                    &[1.0, 0.9, 0.95, 0.0],
+                    &[1.0; 4],
+                    &misfit,
+                    0.0
+                ),
+                2
+            );
         }
         assert!((boundary_misfit(2.0, 1.0) - 2f64.ln()).abs() < 1e-15);
         assert_eq!(boundary_misfit(1.0, 2.0), boundary_misfit(2.0, 1.0));
         assert!(boundary_misfit(0.0, 1.0).is_nan());
-    }
-
-    /// The fit is a mass-weighted mean of the distances (not of their squares), blind to the
-    /// vertices outside the region, and NaN for an empty region.
-    #[test]
-    fn descriptor_fit_is_the_mass_weighted_mean_distance() {
-        let d2 = [4.0, 9.0, 100.0, 0.0];
-        let mass = [1.0, 3.0, 5.0, 2.0];
-        let f = descriptor_fit(&d2, &mass, &[true, true, false, false]);
-        assert!((f - (1.0 * 2.0 + 3.0 * 3.0) / 4.0).abs() < 1e-15);
-        assert_eq!(descriptor_fit(&d2, &mass, &[false, false, false, true]), 0.0);
-        assert!(descriptor_fit(&d2, &mass, &[false; 4]).is_nan());
     }
 }
