@@ -11,13 +11,18 @@ rule) and reproduces the logged choice.
 `--max-cut M` keeps only the spectral-cut starts `cut1+` .. `cutM-` of a log (the others
 all): on `shrec16-2026-11-24-s10-candidates-spectral6.log` (default starts + 6 cuts),
 `--max-cut 0` is the session-10 default and 3, 4 the `--spectral-cuts` settings measured.
+
+`--centres C` keeps the starts of the first C farthest-point centres (in the log's order,
+which is the sampling order): on `shrec16-2026-11-24-s11-candidates-48.log.gz` (16 centres,
+48 starts, with the descriptor-fit column `df` of session 11), `--centres 4` is the default.
+Logs may be gzipped.
 """
-import math, re, sys, statistics
+import gzip, math, re, sys, statistics
 
 def parse(path):
     pairs = []
     cur = None
-    for line in open(path):
+    for line in (gzip.open(path, 'rt') if path.endswith('.gz') else open(path)):
         m = re.match(r'^(cuts_\S+)\s+iou ([0-9.]+) \(direct ([0-9.]+)\).*oracle ([0-9.]+)', line)
         if m:
             cur = dict(name=m.group(1), iou=float(m.group(2)), oracle=float(m.group(4)), cands=[], blen=float('nan'), n=40)
@@ -29,8 +34,10 @@ def parse(path):
             continue
         m = re.match(r'^\s+(\*?)\s*(\S+)\s+cost\s+(\S+) sel\s+(\S+) rc\s+(\S+) iou ([0-9.]+) it (\d+) chi (-?\d+) comp (\d+) blen ([0-9.]+)', line)
         if m and cur:
+            df = re.search(r' df (\S+)', line)
             cur['cands'].append(dict(fin=m.group(1) == '*', label=m.group(2), cost=float(m.group(3)), sel=float(m.group(4)),
-                                     rc=float(m.group(5)), iou=float(m.group(6)), chi=int(m.group(8)), comp=int(m.group(9)), blen=float(m.group(10))))
+                                     rc=float(m.group(5)), iou=float(m.group(6)), chi=int(m.group(8)), comp=int(m.group(9)), blen=float(m.group(10)),
+                                     df=float(df.group(1)) if df else float('nan')))
     return [p for p in pairs if p['cands']]
 
 def misfit(c, p):
@@ -59,14 +66,36 @@ def keep_cuts(pairs, max_cut):
     return [dict(p, cands=[c for c in p['cands'] if keep(c)],
                  oracle=max(c['iou'] for c in p['cands'] if keep(c))) for p in pairs]
 
+def keep_centres(pairs, count):
+    """Keep the starts around the first `count` centres (labels `kind@vertex...`); others all."""
+    def centre(c):
+        m = re.match(r'\w+@(\d+)', c['label'])
+        return m.group(1) if m else None
+    out = []
+    for p in pairs:
+        order = []
+        for c in p['cands']:
+            if centre(c) is not None and centre(c) not in order:
+                order.append(centre(c))
+        keep = set(order[:count])
+        cands = [c for c in p['cands'] if centre(c) is None or centre(c) in keep]
+        out.append(dict(p, cands=cands, oracle=max(c['iou'] for c in cands)))
+    return out
+
 if __name__ == '__main__':
     args = sys.argv[1:]
-    max_cut = None
-    if args[:1] == ['--max-cut']:
-        max_cut, args = int(args[1]), args[2:]
+    max_cut = centres = None
+    while args[:1] in (['--max-cut'], ['--centres']):
+        if args[0] == '--max-cut':
+            max_cut = int(args[1])
+        else:
+            centres = int(args[1])
+        args = args[2:]
     pairs = [q for f in args for q in parse(f)]
     if max_cut is not None:
         pairs = keep_cuts(pairs, max_cut)
+    if centres is not None:
+        pairs = keep_centres(pairs, centres)
     print(f"{len(pairs)} pairs; logged chosen {mean([p['iou'] for p in pairs]):.3f} oracle {mean([p['oracle'] for p in pairs]):.3f}")
     halves = [[p for i, p in enumerate(pairs) if i % 2 == h] for h in (0, 1)]
     def report(name, rule):
@@ -92,3 +121,9 @@ if __name__ == '__main__':
         return cs[min(range(len(cs)), key=lambda i: rsel[i] + w * rrc[i])]
     for w in [0.5, 1, 2]:
         report(f'rank(sel) + {w} rank(rc)', lambda p, w=w: rank_rule(p, w))
+    if all(not math.isnan(c['df']) for p in pairs for c in p['cands']):
+        with_fit = lambda p, f: dict(p, cands=[dict(c, sel=f(c)) for c in p['cands']])
+        report('gated, descriptor fit for sel', lambda p: gated(with_fit(p, lambda c: c['df'])))
+        report('gated, sel * fit', lambda p: gated(with_fit(p, lambda c: c['sel'] * c['df'])))
+        report('gated, sel * fit^2', lambda p: gated(with_fit(p, lambda c: c['sel'] * c['df'] ** 2)))
+        report('lowest fit', lambda p: min(p['cands'], key=lambda c: c['df']))
