@@ -188,15 +188,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             for ((c, i), (sup, agree)) in res.candidates.iter().zip(&per_start).zip(&support) {
                 let (chi, comp, blen) = region_shape(&p.full, Some(&c.region));
                 println!(
-                    "  {} {:<20} cost {:10.3e} sel {:10.4e} rc {:10.3e} iou {:.3} it {} chi {chi} comp {comp} blen {blen:.3} sup {sup:.3} agree {agree} df {:.5e}",
+                    "  {} {:<20} cost {:10.3e} sel {:10.4e} rc {:10.3e} iou {:.3} it {} chi {chi} comp {comp} blen {blen:.3} sup {sup:.3} agree {agree}",
                     if c.finalist { '*' } else { ' ' },
                     c.label,
                     c.cost,
                     c.selection_score,
                     c.region_cost,
                     i,
-                    c.iterations,
-                    c.band_fit
+                    c.iterations
                 );
             }
         }

@@ -309,8 +309,6 @@ pub struct Candidate {
     pub finalist: bool,
     /// Region on the full mesh's vertices.
     pub region: Vec<bool>,
-    /// Experiment: band descriptor fit.
-    pub band_fit: f64,
 }
 
 /// What one start produced.

@@ -318,39 +318,7 @@ pub(crate) fn run(
     // Scores of the finalists (every start without pruning); NaN for the others.
     let mut selection = vec![f64::NAN; ok.len()];
     let mut region_costs = vec![f64::NAN; ok.len()];
-    let mut band_fit = vec![f64::NAN; ok.len()];
     if let (true, Some((d_full, d_part))) = (options.selection != Selection::Cost, &shot) {
-        // Experiment: descriptors of the band [r, 2r] inside the cut (SHOT support r) of the
-        // partial against those of the same band inside each region's boundary.
-        let r = crate::alignment::shot::DEFAULT_RADIUS_FRACTION;
-        let pm = part_shape.mesh();
-        let p_nb = crate::mesh::topology::vertex_neighbors(pm);
-        let p_bnd = crate::mesh::topology::boundary_vertex_mask(pm);
-        let p_dist = band_distances(pm, &p_nb, &p_bnd, None);
-        let band_n: Vec<usize> = (0..pm.n_vertices())
-            .filter(|&j| p_dist[j] >= r && p_dist[j] <= 2.0 * r)
-            .filter(|&j| (0..d_part.ncols()).any(|c| d_part[(j, c)] != 0.0))
-            .collect();
-        if !band_n.is_empty() {
-            let d_band = faer::Mat::from_fn(band_n.len(), d_part.ncols(), |i, c| d_part[(band_n[i], c)]);
-            let near = crate::alignment::descriptor_start::nearest_descriptor_distances(d_full, &d_band)?;
-            let om = opt_shape.mesh();
-            let o_nb = crate::mesh::topology::vertex_neighbors(om);
-            for (i, reg) in opt_regions.iter().enumerate() {
-                let bnd: Vec<bool> = (0..om.n_vertices())
-                    .map(|v| reg[v] && o_nb[v].iter().any(|&u| !reg[u as usize]))
-                    .collect();
-                let d = band_distances(om, &o_nb, &bnd, Some(reg));
-                let (mut num, mut den) = (0.0, 0.0);
-                for v in 0..om.n_vertices() {
-                    if reg[v] && d[v] >= r && d[v] <= 2.0 * r {
-                        num += opt_shape.mass()[v] * near[v].sqrt();
-                        den += opt_shape.mass()[v];
-                    }
-                }
-                band_fit[i] = if den > 0.0 { num / den } else { f64::NAN };
-            }
-        }
         let metrics: Vec<Metric> = terms.iter().map(|t| t.metric).collect();
         let heights: Vec<f64> = terms.iter().map(|t| 2.0 * t.height).collect();
         let targets =
@@ -431,8 +399,7 @@ pub(crate) fn run(
         .iter()
         .zip(full_regions)
         .zip(selection.iter().zip(&region_costs).zip(&misfit))
-        .zip(&band_fit)
-        .map(|(((o, r), ((&sc, &rc), &bm)), &bf)| Candidate {
+        .map(|((o, r), ((&sc, &rc), &bm))| Candidate {
             label: o.label.clone(),
             cost: o.cost,
             selection_score: sc,
@@ -442,7 +409,6 @@ pub(crate) fn run(
             evaluations: o.evaluations,
             finalist: o.finalist,
             region: r,
-            band_fit: bf,
         })
         .collect();
     progress.report(1.0, "done")?;
@@ -480,40 +446,6 @@ pub(crate) fn run(
         candidates,
         warnings,
     })
-}
-
-/// Experiment: multi-source edge-graph distances from the `sources` mask, within `inside`.
-fn band_distances(mesh: &TriMesh, nb: &[Vec<u32>], sources: &[bool], inside: Option<&Vec<bool>>) -> Vec<f64> {
-    use std::cmp::Reverse;
-    use std::collections::BinaryHeap;
-    let p = mesh.vertices();
-    let mut dist = vec![f64::INFINITY; mesh.n_vertices()];
-    let mut heap = BinaryHeap::new();
-    for (i, &s) in sources.iter().enumerate() {
-        if s {
-            dist[i] = 0.0;
-            heap.push(Reverse((0u64, i as u32)));
-        }
-    }
-    while let Some(Reverse((bits, i))) = heap.pop() {
-        let d = f64::from_bits(bits);
-        if d > dist[i as usize] {
-            continue;
-        }
-        for &j in &nb[i as usize] {
-            if inside.is_some_and(|m| !m[j as usize]) {
-                continue;
-            }
-            let e = p[i as usize];
-            let f = p[j as usize];
-            let nd = d + ((e[0] - f[0]).powi(2) + (e[1] - f[1]).powi(2) + (e[2] - f[2]).powi(2)).sqrt();
-            if nd < dist[j as usize] {
-                dist[j as usize] = nd;
-                heap.push(Reverse((nd.to_bits(), j)));
-            }
-        }
-    }
-    dist
 }
 
 /// Iterations of each round of the successive halving: rounds end at 1/8, 1/4, 1/2 and all of
