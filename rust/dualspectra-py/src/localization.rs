@@ -136,17 +136,11 @@ pub fn localize(
         return Err(pyo3::exceptions::PyValueError::new_err(format!("alpha must be finite, got {alpha}")));
     }
     let defaults = Options::default();
-    let selection = match selection.map(str::to_ascii_lowercase).as_deref() {
+    let selection = match selection {
         None => defaults.selection,
-        Some("descriptors") => Selection::Descriptors,
-        Some("cost") => Selection::Cost,
-        Some("region") => Selection::Region,
-        Some("gated") => Selection::Gated,
-        Some(other) => {
-            return Err(pyo3::exceptions::PyValueError::new_err(format!(
-                "unknown selection '{other}' (expected gated, region, descriptors or cost)"
-            )))
-        }
+        Some(name) => name
+            .parse::<Selection>()
+            .map_err(|e| pyo3::exceptions::PyValueError::new_err(format!("selection: {e}")))?,
     };
     let start_shape = match starts {
         None => defaults.start_shape,

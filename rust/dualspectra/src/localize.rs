@@ -211,6 +211,43 @@ pub enum Selection {
     Gated,
 }
 
+impl Selection {
+    /// Every rule, the default first.
+    pub const ALL: [Selection; 4] = [
+        Selection::Gated,
+        Selection::Region,
+        Selection::Descriptors,
+        Selection::Cost,
+    ];
+
+    /// The name used by serde, the CLI (`--selection`) and Python (`selection=`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Selection::Descriptors => "descriptors",
+            Selection::Cost => "cost",
+            Selection::Region => "region",
+            Selection::Gated => "gated",
+        }
+    }
+}
+
+impl std::str::FromStr for Selection {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        let lower = s.to_ascii_lowercase();
+        Selection::ALL.into_iter().find(|v| v.name() == lower).ok_or_else(|| {
+            let names: Vec<&str> = Selection::ALL.iter().map(|v| v.name()).collect();
+            Error::InvalidArgument(format!("unknown selection '{s}' (expected {})", names.join(", ")))
+        })
+    }
+}
+
+impl std::fmt::Display for Selection {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// See [`Selection::Gated`] (2 and 5 gave 0.661 and 0.675 on the same pairs).
 pub const REGION_COST_GATE: f64 = 3.0;
 

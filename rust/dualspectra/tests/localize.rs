@@ -1,7 +1,7 @@
 //! End-to-end laws of the localizer on small generated shapes (seconds, not minutes).
 
 use dualspectra::mesh::generate::icosphere;
-use dualspectra::{localize, Error, Mode, Options, Progress, StartShape, TriMesh};
+use dualspectra::{localize, Error, Mode, Options, Progress, Selection, StartShape, TriMesh};
 
 /// An asymmetric closed shape: a unit icosphere with three bumps of different sizes.
 fn bumpy_sphere(level: u32) -> TriMesh {
@@ -108,6 +108,19 @@ fn start_shape_names_round_trip_and_match_serde() {
     assert_eq!("Area-Ball".parse::<StartShape>().unwrap(), StartShape::AreaBall);
     let err = "balls".parse::<StartShape>().unwrap_err().to_string();
     assert!(err.contains("balls-and-wide-bumps") && err.contains("area-ball"), "{err}");
+}
+
+#[test]
+fn selection_names_round_trip_and_match_serde() {
+    assert_eq!(Selection::ALL[0], Selection::default());
+    for s in Selection::ALL {
+        assert_eq!(s.name().parse::<Selection>().unwrap(), s);
+        assert_eq!(s.to_string(), s.name());
+        assert_eq!(serde_json::to_value(s).unwrap(), serde_json::Value::String(s.name().into()));
+    }
+    assert_eq!("Gated".parse::<Selection>().unwrap(), Selection::Gated);
+    let err = "best".parse::<Selection>().unwrap_err().to_string();
+    assert!(err.contains("gated") && err.contains("descriptors") && err.contains("cost"), "{err}");
 }
 
 #[test]

@@ -12,7 +12,7 @@ use crate::error::CliError;
 use crate::input::read_input_mesh;
 use crate::output::{to_json_line, write_text};
 use dualspectra::localize::HessianModel;
-use dualspectra::{Localization, Mode, Options, Progress, StartShape, Timings, TriMesh};
+use dualspectra::{Localization, Mode, Options, Progress, Selection, StartShape, Timings, TriMesh};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -60,6 +60,13 @@ fn start_shape_parser() -> impl clap::builder::TypedValueParser<Value = StartSha
     use clap::builder::TypedValueParser;
     clap::builder::PossibleValuesParser::new(StartShape::ALL.map(StartShape::name))
         .try_map(|s| s.parse::<StartShape>())
+}
+
+/// `--selection`: the library's rule names (help lists them), parsed by the library.
+fn selection_parser() -> impl clap::builder::TypedValueParser<Value = Selection> {
+    use clap::builder::TypedValueParser;
+    clap::builder::PossibleValuesParser::new(Selection::ALL.map(Selection::name))
+        .try_map(|s| s.parse::<Selection>())
 }
 
 /// The localizer's options shared by `localize` and `bench`.
@@ -112,6 +119,12 @@ pub struct LocalizeOptions {
     /// The trust region's model Hessian [default: the library's].
     #[arg(long, value_enum, value_name = "MODEL")]
     pub hessian: Option<HessianArg>,
+    /// How the result is chosen among the optimised starts: gated (the lowest descriptor
+    /// score among the regions whose own spectra fit within 3x of the best), region (the
+    /// region's spectra alone), descriptors (the paper's rule), cost (the lowest final cost)
+    /// [default: the library's, gated].
+    #[arg(long, value_name = "RULE", value_parser = selection_parser())]
+    pub selection: Option<Selection>,
 }
 
 impl LocalizeOptions {
@@ -156,6 +169,9 @@ impl LocalizeOptions {
         }
         if let Some(s) = self.starts {
             o.start_shape = s;
+        }
+        if let Some(s) = self.selection {
+            o.selection = s;
         }
         if let Some(a) = self.alpha {
             if !a.is_finite() {
@@ -206,6 +222,8 @@ pub struct Output<'a> {
     pub n_vertices_partial: usize,
     pub n_starts: usize,
     pub selected_start: usize,
+    /// The rule that chose `selected_start`.
+    pub selection: Selection,
     pub timings: &'a Timings,
     pub eigenvalues_regular: &'a [f64],
     pub eigenvalues_si: &'a [f64],
@@ -234,6 +252,7 @@ impl<'a> Output<'a> {
             n_vertices_partial: partial.n_vertices(),
             n_starts: loc.n_starts,
             selected_start: loc.selected_start,
+            selection: options.selection,
             timings: &loc.timings,
             eigenvalues_regular: &loc.eigenvalues_regular,
             eigenvalues_si: &loc.eigenvalues_si,
