@@ -111,28 +111,37 @@ fn localize_writes_the_json_schema_and_a_ply() {
     );
 }
 
-#[test]
-fn localize_start_options_reach_the_library() {
-    // --starts and --spectral-cuts change the number of starts (2 centres x 2 area-ball
-    // starts + 2 spectral cuts); a bad start shape is a usage error listing the names.
+/// `localize` on the demo pair with `--quiet` and `args`; the JSON it wrote.
+fn localize_demo_json(name: &str, args: &[&str]) -> serde_json::Value {
     let d = demo_dir();
-    let json = tmp("localize-starts").join("r.json");
+    let json = tmp(name).join("r.json");
     run(bin()
         .args(["localize", "--quiet"])
         .arg(d.join("full.off"))
         .arg(d.join("partial.off"))
-        .args(["--k", "6", "--centers", "2", "--iterations", "3"])
-        .args(["--starts", "area-ball", "--spectral-cuts", "1", "--json"])
+        .args(args)
+        .arg("--json")
         .arg(&json));
-    let v: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
-    assert_eq!(v["n_starts"], 6);
-    let out = bin()
-        .args(["localize", "a.off", "b.off", "--starts", "balls"])
-        .output()
-        .unwrap();
+    serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap()
+}
+
+/// `localize a.off b.off` with `args` must be a usage error (exit 2); its stderr.
+fn localize_usage_error(args: &[&str]) -> String {
+    let out = bin().args(["localize", "a.off", "b.off"]).args(args).output().unwrap();
     assert_eq!(out.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&out.stderr);
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+#[test]
+fn localize_start_options_reach_the_library() {
+    // --starts and --spectral-cuts change the number of starts (2 centres x 2 area-ball
+    // starts + 2 spectral cuts); a bad start shape is a usage error listing the names.
+    let v = localize_demo_json(
+        "localize-starts",
+        &["--k", "6", "--centers", "2", "--iterations", "3", "--starts", "area-ball", "--spectral-cuts", "1"],
+    );
+    assert_eq!(v["n_starts"], 6);
+    let err = localize_usage_error(&["--starts", "balls"]);
     assert!(err.contains("balls-and-wide-bumps") && err.contains("area-ball"), "{err}");
 }
 
@@ -141,29 +150,17 @@ fn localize_selection_reaches_the_library() {
     // The same starts chosen by two rules: `cost` takes the lowest final cost, which on this
     // pair is not the start the default rule picks (82.2 vs 74.1 when written), so a run
     // ignoring the option would fail; the rule is recorded; a bad name lists the rules.
-    let d = demo_dir();
-    let dir = tmp("localize-selection");
     let mut cost = Vec::new();
     for rule in ["gated", "cost"] {
-        let json = dir.join(format!("{rule}.json"));
-        run(bin()
-            .args(["localize", "--quiet"])
-            .arg(d.join("full.off"))
-            .arg(d.join("partial.off"))
-            .args(["--k", "6", "--centers", "3", "--iterations", "3", "--selection", rule, "--json"])
-            .arg(&json));
-        let v: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        let v = localize_demo_json(
+            &format!("localize-selection-{rule}"),
+            &["--k", "6", "--centers", "3", "--iterations", "3", "--selection", rule],
+        );
         assert_eq!(v["selection"], rule);
         cost.push(v["cost"].as_f64().unwrap());
     }
     assert!(cost[1] < cost[0], "lowest cost {} not below the gated choice's {}", cost[1], cost[0]);
-    let out = bin()
-        .args(["localize", "a.off", "b.off", "--selection", "best"])
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&out.stderr);
+    let err = localize_usage_error(&["--selection", "best"]);
     assert!(err.contains("gated") && err.contains("descriptors"), "{err}");
 }
 

@@ -170,14 +170,20 @@ impl StartShape {
     }
 }
 
+/// The variant of `all` whose `name` is `s` (any case); else an error naming `what` and
+/// listing the names. Serves the `FromStr` of the named option enums.
+fn parse_by_name<T: Copy>(all: &[T], name: fn(T) -> &'static str, what: &str, s: &str) -> Result<T> {
+    let lower = s.to_ascii_lowercase();
+    all.iter().copied().find(|&v| name(v) == lower).ok_or_else(|| {
+        let names: Vec<&str> = all.iter().map(|&v| name(v)).collect();
+        Error::InvalidArgument(format!("unknown {what} '{s}' (expected {})", names.join(", ")))
+    })
+}
+
 impl std::str::FromStr for StartShape {
     type Err = Error;
     fn from_str(s: &str) -> Result<Self> {
-        let lower = s.to_ascii_lowercase();
-        StartShape::ALL.into_iter().find(|v| v.name() == lower).ok_or_else(|| {
-            let names: Vec<&str> = StartShape::ALL.iter().map(|v| v.name()).collect();
-            Error::InvalidArgument(format!("unknown start shape '{s}' (expected {})", names.join(", ")))
-        })
+        parse_by_name(&StartShape::ALL, StartShape::name, "start shape", s)
     }
 }
 
@@ -234,11 +240,7 @@ impl Selection {
 impl std::str::FromStr for Selection {
     type Err = Error;
     fn from_str(s: &str) -> Result<Self> {
-        let lower = s.to_ascii_lowercase();
-        Selection::ALL.into_iter().find(|v| v.name() == lower).ok_or_else(|| {
-            let names: Vec<&str> = Selection::ALL.iter().map(|v| v.name()).collect();
-            Error::InvalidArgument(format!("unknown selection '{s}' (expected {})", names.join(", ")))
-        })
+        parse_by_name(&Selection::ALL, Selection::name, "selection", s)
     }
 }
 

@@ -55,18 +55,16 @@ impl From<HessianArg> for HessianModel {
     }
 }
 
-/// `--starts`: the library's start-shape names (help lists them), parsed by the library.
-fn start_shape_parser() -> impl clap::builder::TypedValueParser<Value = StartShape> {
+/// A value among the library's names of a named option (`--starts`, `--selection`): help
+/// lists `names`, the library parses the value.
+fn library_names_parser<T, const N: usize>(
+    names: [&'static str; N],
+) -> impl clap::builder::TypedValueParser<Value = T>
+where
+    T: std::str::FromStr<Err = dualspectra::Error> + Clone + Send + Sync + 'static,
+{
     use clap::builder::TypedValueParser;
-    clap::builder::PossibleValuesParser::new(StartShape::ALL.map(StartShape::name))
-        .try_map(|s| s.parse::<StartShape>())
-}
-
-/// `--selection`: the library's rule names (help lists them), parsed by the library.
-fn selection_parser() -> impl clap::builder::TypedValueParser<Value = Selection> {
-    use clap::builder::TypedValueParser;
-    clap::builder::PossibleValuesParser::new(Selection::ALL.map(Selection::name))
-        .try_map(|s| s.parse::<Selection>())
+    clap::builder::PossibleValuesParser::new(names).try_map(|s| s.parse::<T>())
 }
 
 /// The localizer's options shared by `localize` and `bench`.
@@ -94,7 +92,7 @@ pub struct LocalizeOptions {
     /// balls-and-wide-gaussians (and a wide Gaussian well), gaussian (the reference's, two
     /// widths, both signs), area-ball (the two balls) [default: the library's,
     /// balls-and-wide-bumps].
-    #[arg(long, value_name = "SHAPE", value_parser = start_shape_parser())]
+    #[arg(long, value_name = "SHAPE", value_parser = library_names_parser::<StartShape, 4>(StartShape::ALL.map(StartShape::name)))]
     pub starts: Option<StartShape>,
     /// Further starts from the full shape's first N eigenfunctions, two each (the region on
     /// either side of a level set, with the partial's area) [default: the library's, 0].
@@ -123,7 +121,7 @@ pub struct LocalizeOptions {
     /// score among the regions whose own spectra fit within 3x of the best), region (the
     /// region's spectra alone), descriptors (the paper's rule), cost (the lowest final cost)
     /// [default: the library's, gated].
-    #[arg(long, value_name = "RULE", value_parser = selection_parser())]
+    #[arg(long, value_name = "RULE", value_parser = library_names_parser::<Selection, 4>(Selection::ALL.map(Selection::name)))]
     pub selection: Option<Selection>,
 }
 
