@@ -3,9 +3,11 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <initializer_list>
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <dualspectra/dualspectra.hpp>
@@ -42,6 +44,21 @@ inline std::size_t to_size(const std::string& flag, const std::string& s) {
   return static_cast<std::size_t>(v);
 }
 
+// The value named `m` among `choices` (name, value) of option `flag`; else an error listing
+// the names ("--mode expects dual, lbo or si, got 'x'").
+template <class T>
+T pick(const std::string& flag, const std::string& m, std::initializer_list<std::pair<const char*, T>> choices) {
+  std::string names;
+  std::size_t i = 0;
+  for (const auto& choice : choices) {
+    if (m == choice.first) return choice.second;
+    names += i == 0 ? "" : (i + 1 == choices.size() ? " or " : ", ");
+    names += choice.first;
+    ++i;
+  }
+  throw std::invalid_argument(flag + " expects " + names + ", got '" + m + "'");
+}
+
 inline Args parse(int argc, char** argv) {
   Args a;
   std::vector<std::string> positional;
@@ -51,26 +68,23 @@ inline Args parse(int argc, char** argv) {
       if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
       return argv[++i];
     };
+    using dualspectra::Mode;
+    using dualspectra::Selection;
+    using dualspectra::StartShape;
     if (arg == "--mode") {
-      const std::string m = value();
-      if (m == "dual") a.options.mode = dualspectra::Mode::Dual;
-      else if (m == "lbo") a.options.mode = dualspectra::Mode::Lbo;
-      else if (m == "si") a.options.mode = dualspectra::Mode::Si;
-      else throw std::invalid_argument("--mode expects dual, lbo or si, got '" + m + "'");
+      a.options.mode = pick<Mode>(arg, value(), {{"dual", Mode::Dual}, {"lbo", Mode::Lbo}, {"si", Mode::Si}});
     } else if (arg == "--selection") {
-      const std::string m = value();
-      if (m == "gated") a.options.selection = dualspectra::Selection::Gated;
-      else if (m == "region") a.options.selection = dualspectra::Selection::Region;
-      else if (m == "descriptors") a.options.selection = dualspectra::Selection::Descriptors;
-      else if (m == "cost") a.options.selection = dualspectra::Selection::Cost;
-      else throw std::invalid_argument("--selection expects gated, region, descriptors or cost, got '" + m + "'");
+      a.options.selection = pick<Selection>(arg, value(),
+                                            {{"gated", Selection::Gated},
+                                             {"region", Selection::Region},
+                                             {"descriptors", Selection::Descriptors},
+                                             {"cost", Selection::Cost}});
     } else if (arg == "--starts") {
-      const std::string m = value();
-      if (m == "balls-and-wide-bumps") a.options.start_shape = dualspectra::StartShape::BallsAndWideBumps;
-      else if (m == "balls-and-wide-gaussians") a.options.start_shape = dualspectra::StartShape::BallsAndWideGaussians;
-      else if (m == "gaussian") a.options.start_shape = dualspectra::StartShape::Gaussian;
-      else if (m == "area-ball") a.options.start_shape = dualspectra::StartShape::AreaBall;
-      else throw std::invalid_argument("--starts expects balls-and-wide-bumps, balls-and-wide-gaussians, gaussian or area-ball, got '" + m + "'");
+      a.options.start_shape = pick<StartShape>(arg, value(),
+                                               {{"balls-and-wide-bumps", StartShape::BallsAndWideBumps},
+                                                {"balls-and-wide-gaussians", StartShape::BallsAndWideGaussians},
+                                                {"gaussian", StartShape::Gaussian},
+                                                {"area-ball", StartShape::AreaBall}});
     } else if (arg == "--k") a.options.k = to_size(arg, value());
     else if (arg == "--alpha") a.options.alpha = std::stod(value());
     else if (arg == "--seed") a.options.seed = to_size(arg, value());
