@@ -87,6 +87,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     o.max_iterations = env("DS_ITERS", o.max_iterations);
     o.extra_iterations = env("DS_EXTRA", o.extra_iterations);
     o.spectral_cuts = env("DS_SPECTRAL", o.spectral_cuts);
+    o.plane_cuts = env("DS_PLANES", o.plane_cuts);
     o.finalists = env("DS_FINALISTS", o.finalists);
     o.descriptor_start = env("DS_DESC_START", 0) != 0;
     match env("DS_SELECTION", String::new()).as_str() {

@@ -107,6 +107,10 @@ pub struct Options {
     /// [`crate::alignment::starts::spectral_cut_starts`]), besides the starts around the
     /// centres. 0: none; at most [`MAX_SPECTRAL_CUTS`].
     pub spectral_cuts: usize,
+    /// Plane-cut starts: the first `plane_cuts` directions of
+    /// [`crate::alignment::starts::plane_cut_directions`] (at most
+    /// [`crate::alignment::starts::MAX_PLANE_CUTS`]), one start each.
+    pub plane_cuts: usize,
 }
 
 /// The shape of the starting potentials around each farthest-point centre.
@@ -287,6 +291,7 @@ impl Default for Options {
             hessian: HessianModel::default(),
             start_shape: StartShape::default(),
             spectral_cuts: 0,
+            plane_cuts: 0,
         }
     }
 }

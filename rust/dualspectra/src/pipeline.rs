@@ -5,7 +5,7 @@
 use crate::alignment::cost::{potential_from_w, AlignmentCost, SpectrumTerm};
 use crate::alignment::descriptor_start::descriptor_baseline_mask;
 use crate::alignment::starts::{
-    area_ball_starts, farthest_point_samples, gaussian_pair, gaussian_starts, mask_start, spectral_cut_starts, Start,
+    area_ball_starts, farthest_point_samples, gaussian_pair, gaussian_starts, mask_start, plane_cut_starts, spectral_cut_starts, Start,
 };
 use crate::alignment::trust_region::{minimize, HessianOperator, Point, TrustRegionParams};
 use crate::error::{Error, Result};
@@ -173,6 +173,7 @@ pub(crate) fn run(
                 .collect()
         }
     };
+    starts.extend(plane_cut_starts(pts, opt_shape.mass(), partial_area, options.plane_cuts));
     // Opt-in extra starts; if the full shape's spectrum fails, the other starts still run.
     match spectral_cut_starts(&opt_shape, partial_area, options.spectral_cuts) {
         Ok(cuts) => starts.extend(cuts),

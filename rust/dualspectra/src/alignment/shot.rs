@@ -350,7 +350,7 @@ fn sign_vote(support: &[([f64; 3], f64, u32)], axis: [f64; 3]) -> (bool, bool) {
 
 /// Eigen-decomposition of a symmetric 3x3 matrix by cyclic Jacobi rotations:
 /// eigenvalues decreasing and the matching unit eigenvectors (right-handed triple).
-fn sym_eigen3(mut a: [[f64; 3]; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
+pub(crate) fn sym_eigen3(mut a: [[f64; 3]; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
     let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]; // columns = eigenvectors
     let scale = (0..3)
         .map(|i| (0..3).map(|j| a[i][j].abs()).sum::<f64>())

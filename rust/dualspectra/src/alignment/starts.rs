@@ -165,6 +165,81 @@ pub fn spectral_cut_starts(shape: &crate::shape::Shape, area: f64, count: usize)
     Ok(out)
 }
 
+/// Most plane-cut directions (see [`plane_cut_directions`]).
+pub const MAX_PLANE_CUTS: usize = 26;
+
+/// Up to 26 unit directions in the frame $(e_1, e_2, e_3)$ of the shape's principal axes
+/// (area-weighted covariance of the vertex positions, $e_1$ the largest variance): first
+/// $\pm e_1, \pm e_2, \pm e_3$, then the 8 diagonals $(\pm e_1 \pm e_2 \pm e_3)/\sqrt 3$, then the
+/// 12 face diagonals $(\pm e_i \pm e_j)/\sqrt 2$. Every prefix of length 6, 14 or 26 holds each
+/// direction with its opposite, so it does not depend on the axes' signs.
+pub fn plane_cut_directions(points: &[[f64; 3]], mass: &[f64], count: usize) -> Vec<[f64; 3]> {
+    let total: f64 = mass.iter().sum();
+    let mut c = [0.0; 3];
+    for (p, &m) in points.iter().zip(mass) {
+        for k in 0..3 {
+            c[k] += m * p[k] / total;
+        }
+    }
+    let mut cov = [[0.0; 3]; 3];
+    for (p, &m) in points.iter().zip(mass) {
+        for i in 0..3 {
+            for j in 0..3 {
+                cov[i][j] += m * (p[i] - c[i]) * (p[j] - c[j]);
+            }
+        }
+    }
+    let (_, axes) = crate::alignment::shot::sym_eigen3(cov);
+    let mut frame: Vec<[f64; 3]> = Vec::with_capacity(MAX_PLANE_CUTS);
+    for e in &axes {
+        frame.push(*e);
+        frame.push(e.map(|x| -x));
+    }
+    let combine = |w: [f64; 3]| -> [f64; 3] {
+        let mut d = [0.0; 3];
+        for (a, e) in w.iter().zip(&axes) {
+            for k in 0..3 {
+                d[k] += a * e[k];
+            }
+        }
+        let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        d.map(|x| x / l)
+    };
+    for s in 0..8 {
+        let sign = |b: usize| if s >> b & 1 == 0 { 1.0 } else { -1.0 };
+        frame.push(combine([sign(0), sign(1), sign(2)]));
+    }
+    for (i, j) in [(0, 1), (0, 2), (1, 2)] {
+        for s in 0..4 {
+            let mut w = [0.0; 3];
+            w[i] = if s & 1 == 0 { 1.0 } else { -1.0 };
+            w[j] = if s & 2 == 0 { 1.0 } else { -1.0 };
+            frame.push(combine(w));
+        }
+    }
+    frame.truncate(count.min(MAX_PLANE_CUTS));
+    frame
+}
+
+/// Plane-cut starts: for each of the first `count` directions $d$ of [`plane_cut_directions`],
+/// a well on the vertices of largest $\langle x, d \rangle$ up to the partial's `area` (the
+/// side of a plane normal to $d$), $w_0 = 2 - 4 R_d$ (labels `plane{j}`). A partial cut off
+/// by one roughly planar cut through the body (a half, the front of a torso), which no ball
+/// around an extremity approximates, is one side of such a plane.
+pub fn plane_cut_starts(points: &[[f64; 3]], mass: &[f64], area: f64, count: usize) -> Vec<Start> {
+    plane_cut_directions(points, mass, count)
+        .iter()
+        .enumerate()
+        .map(|(j, d)| {
+            let height: Vec<f64> = points.iter().map(|p| p[0] * d[0] + p[1] * d[1] + p[2] * d[2]).collect();
+            let region = crate::region::energy::area_matched_region(&height, mass, area);
+            let mut start = mask_start(&region, &format!("plane{j}"));
+            start.family = "well";
+            start
+        })
+        .collect()
+}
+
 /// The descriptor baseline start: $w_0 = 2 - 4 R_0$ (low potential on the mask).
 pub fn mask_start(mask: &[bool], label: &str) -> Start {
     Start { w0: mask.iter().map(|&m| if m { -2.0 } else { 2.0 }).collect(), label: label.to_string(), family: "mask" }
