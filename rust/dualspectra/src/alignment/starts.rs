@@ -307,6 +307,77 @@ mod tests {
         assert!(n > 0 && n < 100, "{n} starts on 12 vertices");
     }
 
+    fn dot3(a: [f64; 3], b: [f64; 3]) -> f64 {
+        a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+    }
+
+    /// `p` rotated by `angle` about the unit `axis` (Rodrigues).
+    fn rotate(p: [f64; 3], axis: [f64; 3], angle: f64) -> [f64; 3] {
+        let (c, s) = (angle.cos(), angle.sin());
+        let k = axis;
+        let kxp = [k[1] * p[2] - k[2] * p[1], k[2] * p[0] - k[0] * p[2], k[0] * p[1] - k[1] * p[0]];
+        let kp = dot3(k, p);
+        [0, 1, 2].map(|i| p[i] * c + kxp[i] * s + k[i] * kp * (1.0 - c))
+    }
+
+    #[test]
+    fn plane_cut_directions_follow_the_principal_axes_both_ways() {
+        // An ellipsoid 3:2:1, rotated: the first two directions are +-its long axis, the next
+        // +-the middle one; every prefix of 6, 14, 26 is closed under negation; the set turns
+        // with the shape.
+        let axis = {
+            let a = [1.0, 2.0, 2.0];
+            a.map(|x| x / 3.0)
+        };
+        let mesh = crate::mesh::generate::icosphere(3).map_positions(|p| rotate([3.0 * p[0], 2.0 * p[1], p[2]], axis, 0.7)).unwrap();
+        let shape = crate::shape::Shape::new(mesh);
+        let dirs = plane_cut_directions(shape.mesh().vertices(), shape.mass(), 100);
+        assert_eq!(dirs.len(), MAX_PLANE_CUTS);
+        let (long, mid) = (rotate([1.0, 0.0, 0.0], axis, 0.7), rotate([0.0, 1.0, 0.0], axis, 0.7));
+        assert!(dot3(dirs[0], long).abs() > 1.0 - 1e-9 && dot3(dirs[1], long).abs() > 1.0 - 1e-9);
+        assert!(dot3(dirs[2], mid).abs() > 1.0 - 1e-9);
+        for d in &dirs {
+            assert!((dot3(*d, *d) - 1.0).abs() < 1e-12);
+        }
+        for n in [6, 14, 26] {
+            for d in &dirs[..n] {
+                assert!(dirs[..n].iter().any(|e| dot3(*d, *e) < -1.0 + 1e-12), "prefix {n} misses -{d:?}");
+            }
+        }
+        for i in 0..dirs.len() {
+            for j in 0..i {
+                assert!(dot3(dirs[i], dirs[j]) < 1.0 - 1e-6, "directions {i} and {j} repeat");
+            }
+        }
+        assert_eq!(plane_cut_directions(shape.mesh().vertices(), shape.mass(), 6).len(), 6);
+    }
+
+    #[test]
+    fn plane_cut_starts_open_a_well_on_one_side_of_a_plane() {
+        let shape = crate::shape::Shape::new(crate::mesh::generate::icosphere(3).map_positions(|p| [2.0 * p[0], p[1], p[2]]).unwrap());
+        let (pts, mass) = (shape.mesh().vertices(), shape.mass());
+        let total: f64 = mass.iter().sum();
+        let max_mass = mass.iter().cloned().fold(0.0, f64::max);
+        let dirs = plane_cut_directions(pts, mass, 14);
+        let starts = plane_cut_starts(pts, mass, 0.25 * total, 14);
+        assert_eq!(starts.len(), 14);
+        for (j, (s, d)) in starts.iter().zip(&dirs).enumerate() {
+            assert_eq!(s.label, format!("plane{j}"));
+            let a = well_area(&s.w0, mass);
+            assert!(a >= 0.25 * total && a <= 0.25 * total + max_mass, "{}: {a}", s.label);
+            // Every vertex of the well lies above every vertex outside it along d.
+            let h = |p: &[f64; 3]| dot3(*p, *d);
+            let low = pts.iter().zip(&s.w0).filter(|(_, w)| **w < 0.0).map(|(p, _)| h(p)).fold(f64::INFINITY, f64::min);
+            let high = pts.iter().zip(&s.w0).filter(|(_, w)| **w > 0.0).map(|(p, _)| h(p)).fold(f64::NEG_INFINITY, f64::max);
+            assert!(low >= high, "{}: well not on one side ({low} < {high})", s.label);
+        }
+        // The first two are the two ends of the long (x) axis.
+        let xs = |s: &Start| pts.iter().zip(&s.w0).filter(|(_, w)| **w < 0.0).map(|(p, _)| p[0]).collect::<Vec<_>>();
+        let (a, b) = (xs(&starts[0]), xs(&starts[1]));
+        assert!(a.iter().all(|&x| x * a[0] > 0.0) && b.iter().all(|&x| x * b[0] > 0.0) && a[0] * b[0] < 0.0);
+        assert!(plane_cut_starts(pts, mass, 0.25 * total, 0).is_empty());
+    }
+
     #[test]
     fn area_ball_starts_open_wells_of_the_partials_area() {
         let shape = crate::shape::Shape::new(crate::mesh::generate::icosphere(4));
