@@ -121,6 +121,11 @@ void FilterDualSpectraPlugin::initParameterSet(QAction* action, MeshDocument& md
                          "Further starts from the full mesh's first N eigenfunctions, two each: the region on "
                          "either side of a level set with the partial's area. For a part cut across a natural "
                          "axis (e.g. the left half of a body); 0 = none. Each adds ~15% to the time."));
+    par.addParam(RichInt("PlaneCuts", int(def.plane_cuts), "Plane-cut starts",
+                         "Further starts, one per direction: the side of a plane with the partial's area, normal "
+                         "to the first N of 26 directions (6: both ways along the full mesh's principal axes; 14: "
+                         "and the diagonals; 26: and the face diagonals). For a part cut off across the body; "
+                         "0 = none. Each adds ~5% to the time."));
     par.addParam(RichBool("WriteScore", false, "Score to vertex quality and colour",
                           "Also write the per-vertex membership score in [0, 1] to the vertex quality of the "
                           "full mesh and colour it (red = in the region, blue = outside)."));
@@ -136,12 +141,15 @@ bool FilterDualSpectraPlugin::applyFilter(QAction* action, MeshDocument& /*md*/,
     if (seed < 0) return fail(QString("the seed must be non-negative (got %1)").arg(seed));
     const int cuts = par.getInt("SpectralCuts");
     if (cuts < 0) return fail(QString("the number of spectral cuts must be non-negative (got %1)").arg(cuts));
+    const int planes = par.getInt("PlaneCuts");
+    if (planes < 0) return fail(QString("the number of plane cuts must be non-negative (got %1)").arg(planes));
     ds_options options = ds_options_default();
     options.mode = modeOfIndex(par.getEnum("Mode"));
     options.k = size_t(k);
     options.alpha = double(par.getFloat("Alpha"));
     options.seed = uint64_t(seed);
     options.spectral_cuts = size_t(cuts);
+    options.plane_cuts = size_t(planes);
     return localizePartial(par.getMesh("FullMesh"), par.getMesh("PartialMesh"), options, par.getBool("WriteScore"),
                            cb);
 }

@@ -193,6 +193,13 @@ class DUALSPECTRA_OT_localize(bpy.types.Operator):
         "0: none)",
         default=0, min=0, soft_max=8,
     )
+    plane_cuts: IntProperty(
+        name="Plane Cuts",
+        description="Further starts, one per direction: the side of a plane with the partial's area, normal to the "
+        "first N of 26 directions (6: both ways along the principal axes; 14: and the diagonals; 0: none; "
+        "-1: library default, 6)",
+        default=-1, min=-1, soft_max=26,
+    )
     time_limit: FloatProperty(
         name="Time Limit",
         description="Stop with an error after this many seconds (0: no limit)",
@@ -225,6 +232,7 @@ class DUALSPECTRA_OT_localize(bpy.types.Operator):
         layout.prop(self, "centers")
         layout.prop(self, "max_iterations")
         layout.prop(self, "spectral_cuts")
+        layout.prop(self, "plane_cuts")
         layout.prop(self, "time_limit")
         layout.prop(self, "use_modifiers")
 
@@ -246,6 +254,8 @@ class DUALSPECTRA_OT_localize(bpy.types.Operator):
             for name in ("centers", "max_iterations", "spectral_cuts")
             if getattr(self, name) > 0
         }
+        if self.plane_cuts >= 0:  # 0 is meaningful here (no plane cuts); -1 is the default
+            tuning["plane_cuts"] = self.plane_cuts
         return LocalizeJob(
             module,
             full_mesh.vertices,

@@ -27,7 +27,7 @@ inline const char* usage_text() {
          "options (defaults: the paper's settings):\n"
          "  --mode dual|lbo|si   --k N   --alpha A   --seed N   --resolution N (0: no decimation)\n"
          "  --centers N   --iterations N   --threads N (0: all cores)   --selection gated|region|descriptors|cost\n"
-         "  --starts balls-and-wide-bumps|balls-and-wide-gaussians|gaussian|area-ball   --spectral-cuts N\n"
+         "  --starts balls-and-wide-bumps|balls-and-wide-gaussians|gaussian|area-ball   --spectral-cuts N   --plane-cuts N\n"
          "  --indices FILE   also write the region's vertex indices (0-based, file order), one a line\n"
          "  --quiet          no progress on stderr\n";
 }
@@ -93,6 +93,7 @@ inline Args parse(int argc, char** argv) {
     else if (arg == "--iterations") a.options.max_iterations = to_size(arg, value());
     else if (arg == "--threads") a.options.threads = to_size(arg, value());
     else if (arg == "--spectral-cuts") a.options.spectral_cuts = to_size(arg, value());
+    else if (arg == "--plane-cuts") a.options.plane_cuts = to_size(arg, value());
     else if (arg == "--indices") a.indices = value();
     else if (arg == "--quiet") a.quiet = true;
     else if (arg.size() > 1 && arg[0] == '-') throw std::invalid_argument("unknown option " + arg);

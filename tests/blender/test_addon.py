@@ -434,6 +434,14 @@ def test_spectral_cuts_reach_the_library():
     assert "dualspectra_score" not in full.data.attributes
 
 
+def test_plane_cuts_reach_the_library():
+    """The Plane Cuts property is passed to the library (0 included, -1 is its default): above
+    the library's bound (26) the operator reports the library's error."""
+    full, part = scene_pair()
+    expect_operator_error(["plane_cuts = 27 must be at most 26"], partial_object=part.name, plane_cuts=27, **LIB_OPTIONS)
+    assert "dualspectra_score" not in full.data.attributes
+
+
 def test_poll_needs_active_mesh():
     clear_scene()
     bpy.ops.object.empty_add()

@@ -38,7 +38,7 @@ FILTER = "Localize partial shape (dual spectra)"
 MODES = ["dual", "lbo", "si"]
 
 
-def mlx(full, partial, mode=0, k=20, alpha=0.33, seed=0, spectral_cuts=0, write_score=False):
+def mlx(full, partial, mode=0, k=20, alpha=0.33, seed=0, spectral_cuts=0, plane_cuts=6, write_score=False):
     """A filter script with every parameter, in initParameterSet order (meshlabserver 2020.09
     matches the script's parameters to the filter's by position and asserts on the count)."""
     enum_vals = " ".join('enum_val%d="%s"' % (i, m) for i, m in enumerate(MODES))
@@ -53,6 +53,7 @@ def mlx(full, partial, mode=0, k=20, alpha=0.33, seed=0, spectral_cuts=0, write_
         '  <Param type="RichFloat" value="%g" name="Alpha"/>' % alpha,
         '  <Param type="RichInt" value="%d" name="Seed"/>' % seed,
         '  <Param type="RichInt" value="%d" name="SpectralCuts"/>' % spectral_cuts,
+        '  <Param type="RichInt" value="%d" name="PlaneCuts"/>' % plane_cuts,
         '  <Param type="RichBool" value="%s" name="WriteScore"/>' % ("true" if write_score else "false"),
         " </filter>",
         "</FilterScript>",
@@ -224,6 +225,14 @@ def main():
             checks.check("bad-cuts", "spectral cuts must be non-negative" in text,
                          log_excerpt(text, "spectral cuts"))
             no_crash(checks, "bad-cuts", status, text)
+
+        if wanted("bad-planes"):
+            print("case bad-planes: PlaneCuts = 27 (the library's bound is 26)")
+            status, text, _ = run_server(server, work, "bad-planes", [full, partial], mlx(0, 1, plane_cuts=27))
+            checks.check("bad-planes", status != 0, "the script fails (exit %d)" % status)
+            checks.check("bad-planes", "plane_cuts = 27 must be at most 26" in text,
+                         log_excerpt(text, "plane_cuts"))
+            no_crash(checks, "bad-planes", status, text)
 
         if wanted("bad-mesh"):
             print("case bad-mesh: a non-manifold partial layer")

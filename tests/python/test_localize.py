@@ -52,7 +52,7 @@ def test_localize_finds_the_cut(pair) -> None:
     print(f"[agreement] localize bumpy3 cut: IoU={iou:.3f}, cost={r.cost:.3e}, {r.timings}")
     assert iou > 0.7
     assert 0 <= r.selected_start < r.n_starts
-    assert r.n_starts == 3 * FAST["centers"], "balls-and-wide-bumps: 3 starts per centre"
+    assert r.n_starts == 3 * FAST["centers"] + 6, "balls-and-wide-bumps: 3 per centre, and 6 plane cuts"
     assert set(r.timings) >= {"preprocessing", "total"}
     assert stages and all(0.0 <= x <= 1.0 for x, _ in stages)
     assert "Localization(" in repr(r)
@@ -67,7 +67,7 @@ def test_localize_finds_the_cut(pair) -> None:
 def test_localize_other_starts_find_the_cut(pair, starts: str, per_centre: int, min_iou: float) -> None:
     v, f, pv, pf, truth = pair
     r = ds.localize(v, f, pv, pf, starts=starts, **FAST)  # type: ignore[arg-type]
-    assert r.n_starts == per_centre * FAST["centers"]
+    assert r.n_starts == per_centre * FAST["centers"] + 6
     iou = (r.region & truth).sum() / (r.region | truth).sum()
     print(f"[agreement] localize bumpy3 cut, starts={starts}: IoU={iou:.3f}")
     assert iou > min_iou
@@ -76,12 +76,27 @@ def test_localize_other_starts_find_the_cut(pair, starts: str, per_centre: int, 
 def test_localize_spectral_cuts_add_two_starts_each(pair) -> None:
     v, f, pv, pf, truth = pair
     r = ds.localize(v, f, pv, pf, spectral_cuts=2, **FAST)
-    assert r.n_starts == 3 * FAST["centers"] + 4
+    assert r.n_starts == 3 * FAST["centers"] + 6 + 4
     iou = (r.region & truth).sum() / (r.region | truth).sum()
     print(f"[agreement] localize bumpy3 cut, spectral_cuts=2: IoU={iou:.3f}")
     assert iou > 0.7
     with pytest.raises(ValueError, match="spectral_cuts"):
         ds.localize(v, f, pv, pf, spectral_cuts=-1)
+
+
+def test_localize_plane_cuts_set_the_plane_starts(pair) -> None:
+    v, f, pv, pf, truth = pair
+    r = ds.localize(v, f, pv, pf, plane_cuts=0, **FAST)
+    assert r.n_starts == 3 * FAST["centers"]
+    r = ds.localize(v, f, pv, pf, plane_cuts=14, **FAST)
+    assert r.n_starts == 3 * FAST["centers"] + 14
+    iou = (r.region & truth).sum() / (r.region | truth).sum()
+    print(f"[agreement] localize bumpy3 cut, plane_cuts=14: IoU={iou:.3f}")
+    assert iou > 0.7
+    with pytest.raises(ValueError, match="plane_cuts = 27 must be at most 26"):
+        ds.localize(v, f, pv, pf, plane_cuts=27)
+    with pytest.raises(ValueError, match="plane_cuts"):
+        ds.localize(v, f, pv, pf, plane_cuts=-1)
 
 
 def test_progress_false_cancels(pair) -> None:

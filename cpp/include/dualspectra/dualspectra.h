@@ -53,7 +53,7 @@ typedef struct ds_options {
   uint64_t seed;
   // Vertices of the decimated full shape the potential is optimised on (0: no decimation).
   size_t resolution;
-  // Farthest-point centres of the starts (each gives 3 starts).
+  // Farthest-point centres of the starts (each gives 3 starts; the plane cuts come on top).
   size_t centers;
   // Trust-region iterations per start (at least 1).
   size_t max_iterations;
@@ -67,6 +67,10 @@ typedef struct ds_options {
   // Further starts from the full shape's first `spectral_cuts` eigenfunctions, two each (the
   // region on either side of a level set, with the partial's area); 0: none (the default).
   size_t spectral_cuts;
+  // Further starts, one per direction: the side of a plane with the partial's area, normal to
+  // the first `plane_cuts` of 26 directions (6, the default: both ways along the full shape's
+  // principal axes; 14: and the diagonals; 26: and the face diagonals); at most 26.
+  size_t plane_cuts;
 } ds_options;
 
 // Progress callback: `fraction` in [0, 1] of the whole computation, `stage` a short

@@ -97,7 +97,7 @@ fn localize_writes_the_json_schema_and_a_ply() {
     assert_eq!(v["mode"], "dual");
     assert_eq!(v["seed"], 3);
     assert_eq!(v["k"], 6);
-    assert_eq!(v["n_starts"], 6, "2 centres x 3 starts (balls-and-wide-bumps)");
+    assert_eq!(v["n_starts"], 12, "2 centres x 3 starts (balls-and-wide-bumps) + 6 plane cuts");
     assert!(v["timings"]["total"].as_f64().is_some());
     assert_eq!(v["eigenvalues_regular"].as_array().unwrap().len(), 6);
     assert_eq!(v["target_si"].as_array().unwrap().len(), 6);
@@ -134,13 +134,25 @@ fn localize_usage_error(args: &[&str]) -> String {
 
 #[test]
 fn localize_start_options_reach_the_library() {
-    // --starts and --spectral-cuts change the number of starts (2 centres x 2 area-ball
-    // starts + 2 spectral cuts); a bad start shape is a usage error listing the names.
+    // --starts, --spectral-cuts and --plane-cuts change the number of starts (2 centres x 2
+    // area-ball starts + 2 spectral cuts + 3 plane cuts); a bad start shape is a usage error
+    // listing the names; too many plane cuts is the library's error.
     let v = localize_demo_json(
         "localize-starts",
-        &["--k", "6", "--centers", "2", "--iterations", "3", "--starts", "area-ball", "--spectral-cuts", "1"],
+        &["--k", "6", "--centers", "2", "--iterations", "3", "--starts", "area-ball", "--spectral-cuts", "1", "--plane-cuts", "3"],
     );
-    assert_eq!(v["n_starts"], 6);
+    assert_eq!(v["n_starts"], 9);
+    let d = demo_dir();
+    let out = bin()
+        .args(["localize", "--quiet"])
+        .arg(d.join("full.off"))
+        .arg(d.join("partial.off"))
+        .args(["--plane-cuts", "27"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("plane_cuts = 27 must be at most 26"), "{err}");
     let err = localize_usage_error(&["--starts", "balls"]);
     assert!(err.contains("balls-and-wide-bumps") && err.contains("area-ball"), "{err}");
 }

@@ -106,7 +106,7 @@ pub struct ds_options {
     pub seed: u64,
     /// Vertices of the decimated full shape the potential is optimised on (0: no decimation).
     pub resolution: usize,
-    /// Farthest-point centres of the starts (each gives 3 starts).
+    /// Farthest-point centres of the starts (each gives 3 starts; the plane cuts come on top).
     pub centers: usize,
     /// Trust-region iterations per start (at least 1).
     pub max_iterations: usize,
@@ -120,6 +120,10 @@ pub struct ds_options {
     /// Further starts from the full shape's first `spectral_cuts` eigenfunctions, two each (the
     /// region on either side of a level set, with the partial's area); 0: none (the default).
     pub spectral_cuts: usize,
+    /// Further starts, one per direction: the side of a plane with the partial's area, normal to
+    /// the first `plane_cuts` of 26 directions (6, the default: both ways along the full shape's
+    /// principal axes; 14: and the diagonals; 26: and the face diagonals); at most 26.
+    pub plane_cuts: usize,
 }
 
 /// Wall-clock seconds per stage of `ds_localize`.
@@ -485,6 +489,7 @@ pub extern "C" fn ds_options_default() -> ds_options {
             selection: DS_SELECTION_DESCRIPTORS,
             start_shape: DS_STARTS_BALLS_AND_WIDE_BUMPS,
             spectral_cuts: 0,
+            plane_cuts: 0,
         },
         || crate::options_to_c(&Options::default()),
     )

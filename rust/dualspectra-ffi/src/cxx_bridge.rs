@@ -98,6 +98,8 @@ pub mod ffi {
         start_shape: StartShape,
         /// Further starts from the full shape's first eigenfunctions, two each (0: none).
         spectral_cuts: usize,
+        /// Plane-cut starts, one per direction (the first of 26 around the principal axes; 0: none).
+        plane_cuts: usize,
     }
 
     /// Wall-clock seconds per stage of `localize`.
@@ -253,6 +255,7 @@ fn options_to_c(o: &ffi::Options) -> crate::c_abi::ds_options {
         selection: o.selection.repr,
         start_shape: o.start_shape.repr,
         spectral_cuts: o.spectral_cuts,
+        plane_cuts: o.plane_cuts,
     }
 }
 
@@ -270,6 +273,7 @@ fn default_options() -> ffi::Options {
         selection: ffi::Selection { repr: o.selection },
         start_shape: ffi::StartShape { repr: o.start_shape },
         spectral_cuts: o.spectral_cuts,
+        plane_cuts: o.plane_cuts,
     }
 }
 

@@ -146,6 +146,7 @@ pub(crate) fn options_from_c(o: &c_abi::ds_options) -> Result<Options, Error> {
         selection: selection_from_code(o.selection)?,
         start_shape: start_shape_from_code(o.start_shape)?,
         spectral_cuts: o.spectral_cuts,
+        plane_cuts: o.plane_cuts,
         ..Options::default()
     })
 }
@@ -163,6 +164,7 @@ pub(crate) fn options_to_c(o: &Options) -> c_abi::ds_options {
         selection: selection_code(o.selection),
         start_shape: start_shape_code(o.start_shape),
         spectral_cuts: o.spectral_cuts,
+        plane_cuts: o.plane_cuts,
     }
 }
 

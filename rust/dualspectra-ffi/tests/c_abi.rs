@@ -208,6 +208,7 @@ fn options_round_trip_and_are_checked() {
     assert_eq!((o.resolution, o.centers, o.max_iterations, o.threads), (d.resolution, d.centers, d.max_iterations, d.threads));
     assert_eq!(o.selection, DS_SELECTION_GATED);
     assert_eq!((o.start_shape, o.spectral_cuts), (DS_STARTS_BALLS_AND_WIDE_BUMPS, d.spectral_cuts));
+    assert_eq!(o.plane_cuts, d.plane_cuts);
     let full = create(&icosphere(2));
     let part = create(&disk(0.5, 4));
     let mut r = ptr::null_mut();
@@ -218,6 +219,7 @@ fn options_round_trip_and_are_checked() {
         ds_options { k: 0, ..o },
         ds_options { alpha: f64::INFINITY, ..o },
         ds_options { max_iterations: 0, ..o },
+        ds_options { plane_cuts: 27, ..o },
     ] {
         let s = unsafe { ds_localize(full.0, part.0, &bad, None, ptr::null_mut(), &mut r) };
         assert_eq!(s, DS_INVALID_ARGUMENT, "{bad:?}: {}", last_error());
@@ -279,7 +281,7 @@ fn start_options_reach_the_core() {
         (DS_STARTS_GAUSSIAN, 4),
         (DS_STARTS_AREA_BALL, 2),
     ] {
-        let o = ds_options { start_shape: shape, spectral_cuts: 1, max_iterations: 2, ..fast_options() };
+        let o = ds_options { start_shape: shape, spectral_cuts: 1, plane_cuts: 3, max_iterations: 2, ..fast_options() };
         let mut r = ptr::null_mut();
         let s = unsafe { ds_localize(hf.0, hp.0, &o, None, ptr::null_mut(), &mut r) };
         assert_eq!(s, DS_OK, "{}", last_error());
@@ -288,7 +290,7 @@ fn start_options_reach_the_core() {
             assert_eq!(ds_result_starts(r, &mut sel, &mut ns), DS_OK);
             ds_result_destroy(r);
         }
-        assert_eq!(ns, per_centre * o.centers + 2, "start shape {shape}");
+        assert_eq!(ns, per_centre * o.centers + 2 + 3, "start shape {shape}");
     }
 }
 

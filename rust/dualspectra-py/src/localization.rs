@@ -103,7 +103,7 @@ impl Localization {
 
 /// Native `localize`: arrays already converted to float64 (n, 3) / int64 (m, 3) by the Python layer.
 #[pyfunction]
-#[pyo3(signature = (full_vertices, full_faces, partial_vertices, partial_faces, mode, k, alpha, seed, resolution=None, centers=None, max_iterations=None, threads=None, selection=None, starts=None, spectral_cuts=None, progress=None))]
+#[pyo3(signature = (full_vertices, full_faces, partial_vertices, partial_faces, mode, k, alpha, seed, resolution=None, centers=None, max_iterations=None, threads=None, selection=None, starts=None, spectral_cuts=None, plane_cuts=None, progress=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn localize(
     py: Python<'_>,
@@ -122,6 +122,7 @@ pub fn localize(
     selection: Option<&str>,
     starts: Option<&str>,
     spectral_cuts: Option<usize>,
+    plane_cuts: Option<usize>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Localization> {
     if let Some(cb) = &progress {
@@ -160,6 +161,7 @@ pub fn localize(
         selection,
         start_shape,
         spectral_cuts: spectral_cuts.unwrap_or(defaults.spectral_cuts),
+        plane_cuts: plane_cuts.unwrap_or(defaults.plane_cuts),
         ..defaults
     };
     let (handle, raised) = python_progress(progress);

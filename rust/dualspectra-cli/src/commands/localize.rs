@@ -98,6 +98,11 @@ pub struct LocalizeOptions {
     /// either side of a level set, with the partial's area) [default: the library's, 0].
     #[arg(long, value_name = "N")]
     pub spectral_cuts: Option<usize>,
+    /// Plane-cut starts: the side of a plane with the partial's area, normal to the first N
+    /// of 26 directions (6: both ways along the full shape's principal axes; 14: and the
+    /// diagonals; 26: and the face diagonals) [default: the library's, 6].
+    #[arg(long, value_name = "N")]
+    pub plane_cuts: Option<usize>,
     /// Trust-region iterations per start [default: the library's, 25].
     #[arg(long, value_name = "N")]
     pub iterations: Option<usize>,
@@ -155,6 +160,9 @@ impl LocalizeOptions {
         }
         if let Some(n) = self.spectral_cuts {
             o.spectral_cuts = n;
+        }
+        if let Some(n) = self.plane_cuts {
+            o.plane_cuts = n;
         }
         if let Some(f) = self.finalists {
             o.finalists = f;

@@ -93,6 +93,7 @@ def localize(
         Literal["balls-and-wide-bumps", "balls-and-wide-gaussians", "gaussian", "area-ball"]
     ] = None,
     spectral_cuts: Optional[int] = None,
+    plane_cuts: Optional[int] = None,
     progress: Optional[ProgressCallback] = None,
 ) -> Localization:
     """Find the region of the full mesh that the partial mesh corresponds to.
@@ -125,6 +126,10 @@ def localize(
         spectral_cuts: further starts from the full shape's first eigenfunctions, two each
             (the region on either side of a level set, with the partial's area); default 0.
             They suit partials cut across a natural axis, e.g. the left half of a body.
+        plane_cuts: further starts, one per direction: the side of a plane with the
+            partial's area, normal to the first ``plane_cuts`` of 26 directions (default 6:
+            both ways along the full shape's principal axes; 14: and the diagonals; at most
+            26). They suit partials cut off across the body, e.g. the front half of a torso.
         progress: optional ``callback(fraction, stage)``; returning ``False`` cancels.
 
     Returns:
@@ -155,6 +160,7 @@ def localize(
         selection,
         starts,
         _optional_count(spectral_cuts, "spectral_cuts"),
+        _optional_count(plane_cuts, "plane_cuts"),
         progress,
     )
 

@@ -88,6 +88,7 @@ def localize(
     selection: Optional[str] = None,
     starts: Optional[str] = None,
     spectral_cuts: Optional[int] = None,
+    plane_cuts: Optional[int] = None,
     progress: Optional[Callable[[float, str], Optional[bool]]] = None,
 ) -> Localization: ...
 def spectrum(

@@ -159,7 +159,8 @@ impl<'a> AlignmentCost<'a> {
         self.evaluations += 1;
         let dir = self.shape.dirichlet();
         let w_free = dir.restrict(w);
-        let dtanh: Vec<f64> = w_free.iter().map(|x| 1.0 - x.tanh().powi(2)).collect();
+        let tanh: Vec<f64> = w_free.iter().map(|x| x.tanh()).collect();
+        let dtanh: Vec<f64> = tanh.iter().map(|t| 1.0 - t * t).collect();
         let gauss_newton = self.hessian_model == HessianModel::GaussNewton;
         let mut jacobian = Vec::new();
         let mut diagonal = vec![0.0; if gauss_newton { w_free.len() } else { 0 }];
@@ -167,7 +168,8 @@ impl<'a> AlignmentCost<'a> {
         let mut cost = 0.0;
         let mut spectra = Vec::with_capacity(self.terms.len());
         for ((term, solver), mass) in self.terms.iter().zip(&mut self.solvers).zip(&self.masses) {
-            let v = potential_from_w(&w_free, term.height);
+            // potential_from_w, with the tanh computed once for every term.
+            let v: Vec<f64> = tanh.iter().map(|t| term.height * (t + 1.0)).collect();
             let spec = solver.solve(&v)?;
             let k = term.target.len();
             let phi = &spec.vectors;
@@ -188,7 +190,7 @@ impl<'a> AlignmentCost<'a> {
                         .collect();
                     jacobian.push(row);
                     for j in 0..w_free.len() {
-                        let v2 = -2.0 * term.height * w_free[j].tanh() * dtanh[j];
+                        let v2 = -2.0 * term.height * tanh[j] * dtanh[j];
                         diagonal[j] += 2.0 * r / mu * mass[j] * col[j] * col[j] * v2;
                     }
                 }
