@@ -15,7 +15,10 @@ all): on `shrec16-2026-11-24-s10-candidates-spectral6.log` (default starts + 6 c
 `--centres C` keeps the starts of the first C farthest-point centres (in the log's order,
 which is the sampling order): on `shrec16-2026-11-24-s11-candidates-48.log.gz` (16 centres,
 48 starts, with the descriptor-fit column `df` of session 11), `--centres 4` is the default.
-Logs may be gzipped.
+`--max-plane N` keeps only the plane-cut starts `plane0` .. `plane{N-1}` (the others all):
+on `shrec16-2026-11-24-s12-candidates-planes26.log.gz` (4 centres' 12 starts + 26 plane
+cuts), `--max-plane 6` is the session-12 default and `--max-plane 0` session 11's. Options
+come before the log files. Logs may be gzipped.
 """
 import gzip, math, re, sys, statistics
 
@@ -66,6 +69,14 @@ def keep_cuts(pairs, max_cut):
     return [dict(p, cands=[c for c in p['cands'] if keep(c)],
                  oracle=max(c['iou'] for c in p['cands'] if keep(c))) for p in pairs]
 
+def keep_planes(pairs, count):
+    """Drop the plane-cut starts `planeJ` with J >= count."""
+    def keep(c):
+        m = re.match(r'plane(\d+)$', c['label'])
+        return m is None or int(m.group(1)) < count
+    return [dict(p, cands=[c for c in p['cands'] if keep(c)],
+                 oracle=max(c['iou'] for c in p['cands'] if keep(c))) for p in pairs]
+
 def keep_centres(pairs, count):
     """Keep the starts around the first `count` centres (labels `kind@vertex...`); others all."""
     def centre(c):
@@ -84,10 +95,12 @@ def keep_centres(pairs, count):
 
 if __name__ == '__main__':
     args = sys.argv[1:]
-    max_cut = centres = None
-    while args[:1] in (['--max-cut'], ['--centres']):
+    max_cut = centres = max_plane = None
+    while args[:1] in (['--max-cut'], ['--centres'], ['--max-plane']):
         if args[0] == '--max-cut':
             max_cut = int(args[1])
+        elif args[0] == '--max-plane':
+            max_plane = int(args[1])
         else:
             centres = int(args[1])
         args = args[2:]
@@ -96,6 +109,8 @@ if __name__ == '__main__':
         pairs = keep_cuts(pairs, max_cut)
     if centres is not None:
         pairs = keep_centres(pairs, centres)
+    if max_plane is not None:
+        pairs = keep_planes(pairs, max_plane)
     print(f"{len(pairs)} pairs; logged chosen {mean([p['iou'] for p in pairs]):.3f} oracle {mean([p['oracle'] for p in pairs]):.3f}")
     halves = [[p for i, p in enumerate(pairs) if i % 2 == h] for h in (0, 1)]
     def report(name, rule):

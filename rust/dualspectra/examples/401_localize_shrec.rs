@@ -72,6 +72,51 @@ fn region_study(
     Ok(())
 }
 
+/// DS_CHIRAL: descriptor fits of each candidate region, SHOT at the data's resolution (the
+/// pipeline's radius): `pr` = mean over ~600 partial vertices of the distance to the nearest
+/// descriptor in the region, `rp` = mean over the region's vertices (every 8th) of the distance
+/// to the nearest of those partial descriptors. SHOT's frame is right-handed, so a mirrored
+/// patch has a mirrored histogram: do the fits tell a region from its mirror twin?
+fn chiral_fits(full: &TriMesh, partial: &TriMesh, regions: &[&[bool]]) -> Result<Vec<(f64, f64)>, Box<dyn std::error::Error>> {
+    use dualspectra::alignment::shot::{shot_descriptors, DEFAULT_MIN_NEIGHBORS, DEFAULT_RADIUS_FRACTION};
+    let area: f64 = dualspectra::shape::Shape::new(full.clone()).mass().iter().sum();
+    let scale = 1.0 / area.sqrt();
+    let f = full.map_positions(|p| p.map(|c| c * scale))?;
+    let q = partial.map_positions(|p| p.map(|c| c * scale))?;
+    let df = shot_descriptors(&f, DEFAULT_RADIUS_FRACTION, DEFAULT_MIN_NEIGHBORS)?;
+    let dp = shot_descriptors(&q, DEFAULT_RADIUS_FRACTION, DEFAULT_MIN_NEIGHBORS)?;
+    let step = (dp.nrows() / 600).max(1);
+    let sample: Vec<usize> = (0..dp.nrows()).step_by(step).collect();
+    let d = dp.ncols();
+    let a = faer::Mat::<f64>::from_fn(sample.len(), d, |i, c| dp[(sample[i], c)]);
+    let bt = faer::Mat::<f64>::from_fn(d, df.nrows(), |c, j| df[(j, c)]);
+    let mut dot = faer::Mat::<f64>::zeros(sample.len(), df.nrows());
+    faer::linalg::matmul::matmul(dot.as_mut(), faer::Accum::Replace, a.as_ref(), bt.as_ref(), 1.0, faer::Par::rayon(0));
+    let a2: Vec<f64> = (0..sample.len()).map(|i| (0..d).map(|c| a[(i, c)].powi(2)).sum()).collect();
+    let b2: Vec<f64> = (0..df.nrows()).map(|j| (0..d).map(|c| df[(j, c)].powi(2)).sum()).collect();
+    let dist = |i: usize, j: usize| (a2[i] + b2[j] - 2.0 * dot[(i, j)]).max(0.0).sqrt();
+    Ok(regions
+        .iter()
+        .map(|r| {
+            let inside: Vec<usize> = (0..r.len()).filter(|&j| r[j]).collect();
+            if inside.is_empty() {
+                return (f64::NAN, f64::NAN);
+            }
+            let pr = (0..sample.len())
+                .map(|i| inside.iter().map(|&j| dist(i, j)).fold(f64::INFINITY, f64::min))
+                .sum::<f64>()
+                / sample.len() as f64;
+            let sub: Vec<usize> = inside.iter().copied().step_by(8).collect();
+            let rp = sub
+                .iter()
+                .map(|&j| (0..sample.len()).map(|i| dist(i, j)).fold(f64::INFINITY, f64::min))
+                .sum::<f64>()
+                / sub.len() as f64;
+            (pr, rp)
+        })
+        .collect())
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
     let root = args
@@ -186,17 +231,25 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     Ok((o.iter().sum::<f64>() / o.len().max(1) as f64, o.iter().filter(|&&x| x > 0.7).count()))
                 })
                 .collect::<Result<_, dualspectra::Error>>()?;
-            for ((c, i), (sup, agree)) in res.candidates.iter().zip(&per_start).zip(&support) {
+            let chiral = if std::env::var("DS_CHIRAL").is_ok() {
+                let regions: Vec<&[bool]> = res.candidates.iter().map(|c| c.region.as_slice()).collect();
+                chiral_fits(&p.full, &p.partial, &regions)?
+            } else {
+                vec![(f64::NAN, f64::NAN); res.candidates.len()]
+            };
+            for (((c, i), (sup, agree)), (pr, rp)) in res.candidates.iter().zip(&per_start).zip(&support).zip(&chiral) {
                 let (chi, comp, blen) = region_shape(&p.full, Some(&c.region));
                 println!(
-                    "  {} {:<20} cost {:10.3e} sel {:10.4e} rc {:10.3e} iou {:.3} it {} chi {chi} comp {comp} blen {blen:.3} sup {sup:.3} agree {agree}",
+                    "  {} {:<20} cost {:10.3e} sel {:10.4e} rc {:10.3e} iou {:.3} it {} chi {chi} comp {comp} blen {blen:.3} sup {sup:.3} agree {agree} direct {:.3} pr {pr:.5} rp {rp:.5} pf {:.5}",
                     if c.finalist { '*' } else { ' ' },
                     c.label,
                     c.cost,
                     c.selection_score,
                     c.region_cost,
                     i,
-                    c.iterations
+                    c.iterations,
+                    scores(&c.region, &p.gt)?.iou,
+                    c.partial_fit
                 );
             }
         }

@@ -319,7 +319,14 @@ pub(crate) fn run(
     // Scores of the finalists (every start without pruning); NaN for the others.
     let mut selection = vec![f64::NAN; ok.len()];
     let mut region_costs = vec![f64::NAN; ok.len()];
+    let mut partial_fits = vec![f64::NAN; ok.len()];
     if let (true, Some((d_full, d_part))) = (options.selection != Selection::Cost, &shot) {
+        let distances = crate::alignment::selection::partial_fit_distances(d_full, d_part)?;
+        for (i, o) in ok.iter().enumerate() {
+            if o.finalist {
+                partial_fits[i] = crate::alignment::selection::partial_fit(distances.as_ref(), &opt_regions[i]);
+            }
+        }
         let metrics: Vec<Metric> = terms.iter().map(|t| t.metric).collect();
         let heights: Vec<f64> = terms.iter().map(|t| 2.0 * t.height).collect();
         let targets =
@@ -367,15 +374,14 @@ pub(crate) fn run(
             crate::alignment::selection::boundary_misfit(l, partial_boundary)
         })
         .collect();
-    let selected = crate::alignment::selection::choose(
-        options.selection,
-        &pool,
-        &costs,
-        &selection,
-        &region_costs,
-        &misfit,
-        floor,
-    );
+    let scores = crate::alignment::selection::CandidateScores {
+        cost: &costs,
+        descriptors: &selection,
+        region_cost: &region_costs,
+        boundary_misfit: &misfit,
+        partial_fit: &partial_fits,
+    };
+    let selected = crate::alignment::selection::choose(options.selection, &pool, &scores, floor);
     let t_sel = t0.elapsed().as_secs_f64();
     progress.report(0.98, "finishing")?;
 
@@ -399,8 +405,9 @@ pub(crate) fn run(
     let candidates = ok
         .iter()
         .zip(full_regions)
-        .zip(selection.iter().zip(&region_costs).zip(&misfit))
-        .map(|((o, r), ((&sc, &rc), &bm))| Candidate {
+        .zip(selection.iter().zip(&region_costs).zip(&misfit).zip(&partial_fits))
+        .map(|((o, r), (((&sc, &rc), &bm), &pf))| Candidate {
+            partial_fit: pf,
             label: o.label.clone(),
             cost: o.cost,
             selection_score: sc,

@@ -144,6 +144,48 @@ pub fn selection_scores(
     })
 }
 
+/// Most partial vertices [`partial_fit_distances`] samples (every `ceil(n / this)`-th).
+pub const PARTIAL_FIT_SAMPLES: usize = 1000;
+
+/// Descriptor distances $\lVert D_N(j) - D_M(i) \rVert$ from a sample of the partial's
+/// vertices $j$ (every `ceil(n_N / PARTIAL_FIT_SAMPLES)`-th; rows) to every vertex $i$ of the
+/// full shape (columns), for [`partial_fit`].
+pub fn partial_fit_distances(d_full: &Mat<f64>, d_part: &Mat<f64>) -> Result<Mat<f64>> {
+    if d_full.ncols() != d_part.ncols() {
+        return Err(crate::error::Error::InvalidArgument(format!(
+            "descriptors of {} and {} dimensions",
+            d_full.ncols(),
+            d_part.ncols()
+        )));
+    }
+    let step = d_part.nrows().div_ceil(PARTIAL_FIT_SAMPLES).max(1);
+    let sample: Vec<usize> = (0..d_part.nrows()).step_by(step).collect();
+    let d = d_part.ncols();
+    let a = Mat::<f64>::from_fn(sample.len(), d, |i, c| d_part[(sample[i], c)]);
+    let mut dot = Mat::<f64>::zeros(sample.len(), d_full.nrows());
+    faer::linalg::matmul::matmul(dot.as_mut(), faer::Accum::Replace, a.as_ref(), d_full.transpose(), 1.0, faer::Par::Seq);
+    let a2: Vec<f64> = (0..a.nrows()).map(|i| (0..d).map(|c| a[(i, c)].powi(2)).sum()).collect();
+    let b2: Vec<f64> = (0..d_full.nrows()).map(|j| (0..d).map(|c| d_full[(j, c)].powi(2)).sum()).collect();
+    Ok(Mat::from_fn(a.nrows(), d_full.nrows(), |i, j| (a2[i] + b2[j] - 2.0 * dot[(i, j)]).max(0.0).sqrt()))
+}
+
+/// Partial-to-region descriptor fit (lower is better): the mean over the sampled partial
+/// vertices of the distance to the nearest descriptor inside `region` (columns of
+/// `distances`, from [`partial_fit_distances`]). Every local shape of the partial must be
+/// found in the region. SHOT's local frames are right-handed, so a mirrored patch has a
+/// mirrored histogram: unlike the eigenfunction projections (which average the descriptors
+/// over the region), this tells a region from its mirror twin. NaN for an empty region.
+pub fn partial_fit(distances: MatRef<'_, f64>, region: &[bool]) -> f64 {
+    let inside: Vec<usize> = (0..region.len().min(distances.ncols())).filter(|&j| region[j]).collect();
+    if inside.is_empty() || distances.nrows() == 0 {
+        return f64::NAN;
+    }
+    let total: f64 = (0..distances.nrows())
+        .map(|i| inside.iter().map(|&j| distances[(i, j)]).fold(f64::INFINITY, f64::min))
+        .sum();
+    total / distances.nrows() as f64
+}
+
 /// $|\ln(L_R / L_N)|$: how far a region's boundary length $L_R$ is from the partial's $L_N$
 /// (0 when equal; NaN when either is not positive).
 pub fn boundary_misfit(region_length: f64, partial_length: f64) -> f64 {
@@ -154,62 +196,62 @@ pub fn boundary_misfit(region_length: f64, partial_length: f64) -> f64 {
     }
 }
 
+/// Exponent $\gamma$ of the [`partial_fit`] in [`Selection::Gated`]'s ranking.
+pub const PARTIAL_FIT_EXPONENT: f64 = 2.0;
+
+/// Per-candidate scores the rules of [`choose`] rank by, one entry per candidate (lower is
+/// better for all; NaN where not computed).
+#[derive(Debug, Clone, Copy)]
+pub struct CandidateScores<'a> {
+    /// Final alignment cost.
+    pub cost: &'a [f64],
+    /// Descriptor projection score ([`RegionScores::descriptors`]).
+    pub descriptors: &'a [f64],
+    /// Region cost ([`RegionScores::region_cost`]).
+    pub region_cost: &'a [f64],
+    /// [`boundary_misfit`] (NaN or missing counts as 0).
+    pub boundary_misfit: &'a [f64],
+    /// [`partial_fit`] (an empty slice: not computed, no effect; NaN ranks last).
+    pub partial_fit: &'a [f64],
+}
+
 /// The chosen candidate among `pool` (indices into the per-candidate arrays) by `rule`; ties
 /// go to the lower index, NaN scores rank last. `Gated`: among the candidates of the pool
 /// whose region cost is at most [`REGION_COST_GATE`] times the pool's lowest or at most
-/// `floor` (all of the pool if no region cost is finite), the lowest descriptor score times
-/// $\exp(\beta\,m)$, $m$ the [`boundary_misfit`] (NaN or missing counts as 0) and $\beta$ =
+/// `floor` (all of the pool if no region cost is finite), the lowest
+/// $d \, f^\gamma \exp(\beta\,m)$: $d$ the descriptor score, $f$ the [`partial_fit`],
+/// $\gamma$ = [`PARTIAL_FIT_EXPONENT`], $m$ the [`boundary_misfit`], $\beta$ =
 /// [`BOUNDARY_WEIGHT`]. Returns 0 for an empty pool.
-pub fn choose(
-    rule: Selection,
-    pool: &[usize],
-    cost: &[f64],
-    descriptors: &[f64],
-    region_cost: &[f64],
-    misfit: &[f64],
-    floor: f64,
-) -> usize {
+pub fn choose(rule: Selection, pool: &[usize], scores: &CandidateScores<'_>, floor: f64) -> usize {
     let nan_last = |x: f64| if x.is_nan() { f64::INFINITY } else { x };
+    let at = |values: &[f64], i: usize| values.get(i).copied().unwrap_or(f64::NAN);
     let lowest = |values: &[f64], among: &[usize]| {
         among
             .iter()
             .copied()
-            .min_by(|&a, &b| {
-                nan_last(values[a])
-                    .total_cmp(&nan_last(values[b]))
-                    .then(a.cmp(&b))
-            })
+            .min_by(|&a, &b| nan_last(at(values, a)).total_cmp(&nan_last(at(values, b))).then(a.cmp(&b)))
             .unwrap_or(0)
     };
+    let region_cost = scores.region_cost;
     match rule {
-        Selection::Cost => lowest(cost, pool),
-        Selection::Descriptors => lowest(descriptors, pool),
+        Selection::Cost => lowest(scores.cost, pool),
+        Selection::Descriptors => lowest(scores.descriptors, pool),
         Selection::Region => lowest(region_cost, pool),
         Selection::Gated => {
-            let best = pool
-                .iter()
-                .map(|&i| region_cost[i])
-                .filter(|x| x.is_finite())
-                .fold(f64::INFINITY, f64::min);
+            let best = pool.iter().map(|&i| at(region_cost, i)).filter(|x| x.is_finite()).fold(f64::INFINITY, f64::min);
             let gated: Vec<usize> = if best.is_finite() {
                 let gate = (REGION_COST_GATE * best).max(floor);
-                pool.iter()
-                    .copied()
-                    .filter(|&i| region_cost[i] <= gate)
-                    .collect()
+                pool.iter().copied().filter(|&i| at(region_cost, i) <= gate).collect()
             } else {
                 pool.to_vec()
             };
-            let weighted: Vec<f64> = descriptors
-                .iter()
-                .enumerate()
-                .map(|(i, &d)| {
-                    let m = misfit
-                        .get(i)
-                        .copied()
-                        .filter(|m| !m.is_nan())
-                        .unwrap_or(0.0);
-                    d * (BOUNDARY_WEIGHT * m).exp()
+            let weighted: Vec<f64> = (0..scores.descriptors.len())
+                .map(|i| {
+                    let m = at(scores.boundary_misfit, i);
+                    let m = if m.is_nan() { 0.0 } else { m };
+                    // Not computed: no effect; NaN (an empty region): ranks last.
+                    let f = scores.partial_fit.get(i).copied().unwrap_or(1.0);
+                    at(scores.descriptors, i) * f.powf(PARTIAL_FIT_EXPONENT) * (BOUNDARY_WEIGHT * m).exp()
                 })
                 .collect();
             lowest(&weighted, &gated)
@@ -225,6 +267,72 @@ fn restrict_rows(m: &Mat<f64>, rows: &[u32]) -> Mat<f64> {
 mod tests {
     use super::*;
 
+    /// [`choose`] with no partial fits (NaN: no effect).
+    fn pick(rule: Selection, pool: &[usize], cost: &[f64], desc: &[f64], region: &[f64], misfit: &[f64], floor: f64) -> usize {
+        let scores = CandidateScores { cost, descriptors: desc, region_cost: region, boundary_misfit: misfit, partial_fit: &[] };
+        choose(rule, pool, &scores, floor)
+    }
+
+    #[test]
+    fn partial_fit_is_the_mean_nearest_descriptor_distance_in_the_region() {
+        // Descriptors in 2-D: full rows 0..4, partial rows 0..3.
+        let full = Mat::from_fn(4, 2, |i, c| [[0.0, 0.0], [1.0, 0.0], [0.0, 2.0], [5.0, 5.0]][i][c]);
+        let part = Mat::from_fn(3, 2, |i, c| [[0.0, 0.1], [1.0, 0.0], [0.0, 2.5]][i][c]);
+        let d = partial_fit_distances(&full, &part).unwrap();
+        assert_eq!((d.nrows(), d.ncols()), (3, 4));
+        for i in 0..3 {
+            for j in 0..4 {
+                let e = ((part[(i, 0)] - full[(j, 0)]).powi(2) + (part[(i, 1)] - full[(j, 1)]).powi(2)).sqrt();
+                assert!((d[(i, j)] - e).abs() < 1e-12);
+            }
+        }
+        // All of the full shape: nearest 0.1, 0, 0.5.
+        assert!((partial_fit(d.as_ref(), &[true; 4]) - 0.2).abs() < 1e-12);
+        // A smaller region fits no better; an empty one is NaN.
+        let sub = partial_fit(d.as_ref(), &[true, false, false, true]);
+        assert!(sub >= 0.2 && (sub - (0.1 + 1.0 + 2.5) / 3.0).abs() < 1e-12);
+        assert!(partial_fit(d.as_ref(), &[false; 4]).is_nan());
+        // Many partial vertices are sampled down to at most PARTIAL_FIT_SAMPLES rows.
+        let big = Mat::from_fn(2 * PARTIAL_FIT_SAMPLES + 1, 2, |i, c| (i * (c + 1)) as f64);
+        let n = partial_fit_distances(&full, &big).unwrap().nrows();
+        assert!(n <= PARTIAL_FIT_SAMPLES && n > PARTIAL_FIT_SAMPLES / 2, "{n}");
+        assert!(partial_fit_distances(&full, &Mat::zeros(2, 3)).is_err());
+    }
+
+    #[test]
+    fn partial_fit_tells_a_region_from_its_mirror_image() {
+        // A chiral shape (four bumps of different sizes, not coplanar with the centre, so no
+        // mirror maps it to itself) and its mirror image (x -> -x, faces reversed to keep the
+        // normals outward). The partial, a cut of the shape, fits its own region better than
+        // the same region of the mirror image: SHOT frames are right-handed.
+        let bumps = [([0.0, 0.0, 1.0], 0.5), ([0.8, 0.6, 0.0], 0.35), ([0.0, -0.6, 0.8], 0.25), ([-0.6, 0.0, 0.8], 0.15)];
+        let shape = crate::mesh::generate::icosphere(4)
+            .map_positions(|p| {
+                let r: f64 = 1.0
+                    + bumps
+                        .iter()
+                        .map(|(c, h)| h * (-(0..3).map(|i| (p[i] - c[i]).powi(2)).sum::<f64>() / 0.1).exp())
+                        .sum::<f64>();
+                p.map(|x| x * r)
+            })
+            .unwrap();
+        let mirror = crate::mesh::TriMesh::new(
+            shape.vertices().iter().map(|p| [-p[0], p[1], p[2]]).collect(),
+            shape.faces().iter().map(|f| [f[0], f[2], f[1]]).collect(),
+        )
+        .unwrap();
+        let region: Vec<bool> = shape.vertices().iter().map(|p| p[2] > 0.2).collect();
+        let faces: Vec<[u32; 3]> = shape.faces().iter().filter(|f| f.iter().all(|&i| region[i as usize])).copied().collect();
+        let (partial, _) = crate::mesh::TriMesh::new_dropping_isolated(shape.vertices().to_vec(), faces).unwrap();
+        let radius = 0.15;
+        let describe = |m: &crate::mesh::TriMesh| crate::alignment::shot::shot_descriptors(m, radius, 3).unwrap();
+        let d_part = describe(&partial);
+        let own = partial_fit(partial_fit_distances(&describe(&shape), &d_part).unwrap().as_ref(), &region);
+        let mirrored = partial_fit(partial_fit_distances(&describe(&mirror), &d_part).unwrap().as_ref(), &region);
+        eprintln!("partial fit: own region {own:.4}, mirror image {mirrored:.4}");
+        assert!(own < 0.7 * mirrored, "own {own}, mirrored {mirrored}");
+    }
+
     #[test]
     fn choose_follows_each_rule_within_the_pool() {
         const NO_MISFIT: [f64; 4] = [f64::NAN; 4];
@@ -232,147 +340,41 @@ mod tests {
         let desc = [40.0, 10.0, 30.0, 20.0];
         let region = [90.0, 3.0, 2.0, f64::NAN];
         let all = [0, 1, 2, 3];
-        assert_eq!(
-            choose(
-                Selection::Cost,
-                &all,
-                &cost,
-                &desc,
-                &region,
-                &NO_MISFIT,
-                0.0
-            ),
-            0
-        );
-        assert_eq!(
-            choose(
-                Selection::Descriptors,
-                &all,
-                &cost,
-                &desc,
-                &region,
-                &NO_MISFIT,
-                0.0
-            ),
-            1
-        );
-        assert_eq!(
-            choose(
-                Selection::Region,
-                &all,
-                &cost,
-                &desc,
-                &region,
-                &NO_MISFIT,
-                0.0
-            ),
-            2
-        );
+        assert_eq!(pick(Selection::Cost, &all, &cost, &desc, &region, &NO_MISFIT, 0.0), 0);
+        assert_eq!(pick(Selection::Descriptors, &all, &cost, &desc, &region, &NO_MISFIT, 0.0), 1);
+        assert_eq!(pick(Selection::Region, &all, &cost, &desc, &region, &NO_MISFIT, 0.0), 2);
         // Gate: region costs <= 3 x 2.0 keep 1 and 2 (not 0: 90, not 3: NaN); lowest desc is 1.
-        assert_eq!(
-            choose(
-                Selection::Gated,
-                &all,
-                &cost,
-                &desc,
-                &region,
-                &NO_MISFIT,
-                0.0
-            ),
-            1
-        );
+        assert_eq!(pick(Selection::Gated, &all, &cost, &desc, &region, &NO_MISFIT, 0.0), 1);
         // Only the pool counts: without 1, the gate keeps 2 alone.
-        assert_eq!(
-            choose(
-                Selection::Gated,
-                &[0, 2, 3],
-                &cost,
-                &desc,
-                &region,
-                &NO_MISFIT,
-                0.0
-            ),
-            2
-        );
+        assert_eq!(pick(Selection::Gated, &[0, 2, 3], &cost, &desc, &region, &NO_MISFIT, 0.0), 2);
         // A wider gate admits the better descriptor score.
         let region2 = [5.0, 2.0, 7.0];
-        assert_eq!(
-            choose(
-                Selection::Gated,
-                &[0, 1, 2],
-                &cost,
-                &[1.0, 3.0, 0.5],
-                &region2,
-                &NO_MISFIT,
-                0.0
-            ),
-            0
-        );
+        assert_eq!(pick(Selection::Gated, &[0, 1, 2], &cost, &[1.0, 3.0, 0.5], &region2, &NO_MISFIT, 0.0), 0);
         // No finite region cost: descriptors alone.
         let nan = [f64::NAN; 4];
-        assert_eq!(
-            choose(Selection::Gated, &all, &cost, &desc, &nan, &NO_MISFIT, 0.0),
-            1
-        );
-        assert_eq!(
-            choose(Selection::Cost, &[], &cost, &desc, &region, &NO_MISFIT, 0.0),
-            0
-        );
+        assert_eq!(pick(Selection::Gated, &all, &cost, &desc, &nan, &NO_MISFIT, 0.0), 1);
+        assert_eq!(pick(Selection::Cost, &[], &cost, &desc, &region, &NO_MISFIT, 0.0), 0);
         // All region costs small: the floor admits every good fit, not just 3x the best.
         let small = [0.02, 0.13, 0.09, 0.4];
-        assert_eq!(
-            choose(
-                Selection::Gated,
-                &all,
-                &cost,
-                &[9.0, 3.0, 2.0, 1.0],
-                &small,
-                &NO_MISFIT,
-                0.0
-            ),
-            0
-        );
-        assert_eq!(
-            choose(
-                Selection::Gated,
-                &all,
-                &cost,
-                &[9.0, 3.0, 2.0, 1.0],
-                &small,
-                &NO_MISFIT,
-                0.2
-            ),
-            2
-        );
+        assert_eq!(pick(Selection::Gated, &all, &cost, &[9.0, 3.0, 2.0, 1.0], &small, &NO_MISFIT, 0.0), 0);
+        assert_eq!(pick(Selection::Gated, &all, &cost, &[9.0, 3.0, 2.0, 1.0], &small, &NO_MISFIT, 0.2), 2);
         // A boundary far longer than the partial's (misfit ln 4) outweighs a 10% better
         // descriptor score; NaN misfit counts as a perfect fit.
         if BOUNDARY_WEIGHT > 0.0 {
             let misfit = [0.0, 4f64.ln(), f64::NAN, 0.0];
-            assert_eq!(
-                choose(
-                    Selection::Gated,
-                    &[0, 1],
-                    &cost,
-                    &[1.0, 0.9, 0.0, 0.0],
-                    &[1.0; 4],
-                    &misfit,
-                    0.0
-                ),
-                0
-            );
-            assert_eq!(
-                choose(
-                    Selection::Gated,
-                    &[1, 2],
-                    &cost,
-                    &[1.0, 0.9, 0.95, 0.0],
-                    &[1.0; 4],
-                    &misfit,
-                    0.0
-                ),
-                2
-            );
+            assert_eq!(pick(Selection::Gated, &[0, 1], &cost, &[1.0, 0.9, 0.0, 0.0], &[1.0; 4], &misfit, 0.0), 0);
+            assert_eq!(pick(Selection::Gated, &[1, 2], &cost, &[1.0, 0.9, 0.95, 0.0], &[1.0; 4], &misfit, 0.0), 2);
         }
+        // Mirror twins: equal descriptor scores and region costs, the partial fit decides
+        // (f^2: 0.40 against 0.45 outweighs a 20% worse descriptor score, not a 30% one); only
+        // the gated rule uses it.
+        let fit = [0.45, 0.40, f64::NAN, 0.40];
+        let desc3 = [1.0, 1.2, 1.0, 1.3];
+        let scores = CandidateScores { cost: &cost, descriptors: &desc3, region_cost: &[1.0; 4], boundary_misfit: &[], partial_fit: &fit };
+        assert_eq!(choose(Selection::Gated, &[0, 1], &scores, 0.0), 1);
+        assert_eq!(choose(Selection::Gated, &[0, 3], &scores, 0.0), 0);
+        assert_eq!(choose(Selection::Gated, &[1, 2], &scores, 0.0), 1, "a NaN fit ranks last");
+        assert_eq!(choose(Selection::Descriptors, &[0, 1], &scores, 0.0), 0);
         assert!((boundary_misfit(2.0, 1.0) - 2f64.ln()).abs() < 1e-15);
         assert_eq!(boundary_misfit(1.0, 2.0), boundary_misfit(2.0, 1.0));
         assert!(boundary_misfit(0.0, 1.0).is_nan());
