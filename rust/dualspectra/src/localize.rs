@@ -224,7 +224,7 @@ pub enum Selection {
     /// pairs (the `_1` and `_6` cuts, 16 starts each) it was never worse than descriptors
     /// alone: mean IoU 0.675 against 0.636 (descriptors), 0.640 (region cost), 0.55 (cost),
     /// best start 0.765. The partial fit
-    /// ([`crate::alignment::selection::partial_fit`], the mean distance from the partial's
+    /// ([`crate::alignment::selection::partial_fits`], the mean distance from the partial's
     /// SHOT descriptors to the nearest in the region; exponent
     /// [`crate::alignment::selection::PARTIAL_FIT_EXPONENT`]) tells a region from its mirror
     /// twin, which the projections, averaged over the region, cannot: on all 80 SHREC'16 pairs
@@ -359,7 +359,8 @@ pub struct Candidate {
     pub region_cost: f64,
     /// $|\ln(L_R / L_N)|$: boundary length of the region against the partial's (NaN if either is 0).
     pub boundary_misfit: f64,
-    /// [`crate::alignment::selection::partial_fit`] of the region (NaN if not scored).
+    /// Partial fit of the region ([`crate::alignment::selection::partial_fits`]; NaN if not
+    /// scored).
     pub partial_fit: f64,
     pub iterations: usize,
     pub evaluations: usize,

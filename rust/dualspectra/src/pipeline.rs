@@ -321,11 +321,11 @@ pub(crate) fn run(
     let mut region_costs = vec![f64::NAN; ok.len()];
     let mut partial_fits = vec![f64::NAN; ok.len()];
     if let (true, Some((d_full, d_part))) = (options.selection != Selection::Cost, &shot) {
-        let distances = crate::alignment::selection::partial_fit_distances(d_full, d_part)?;
-        for (i, o) in ok.iter().enumerate() {
-            if o.finalist {
-                partial_fits[i] = crate::alignment::selection::partial_fit(distances.as_ref(), &opt_regions[i]);
-            }
+        let scored: Vec<usize> = (0..ok.len()).filter(|&i| ok[i].finalist).collect();
+        let regions: Vec<&[bool]> = scored.iter().map(|&i| opt_regions[i].as_slice()).collect();
+        let fits = crate::alignment::selection::partial_fits(d_full, d_part, &regions)?;
+        for (&i, f) in scored.iter().zip(fits) {
+            partial_fits[i] = f;
         }
         let metrics: Vec<Metric> = terms.iter().map(|t| t.metric).collect();
         let heights: Vec<f64> = terms.iter().map(|t| 2.0 * t.height).collect();

@@ -144,13 +144,22 @@ pub fn selection_scores(
     })
 }
 
-/// Most partial vertices [`partial_fit_distances`] samples (every `ceil(n / this)`-th).
+/// Most partial vertices [`partial_fits`] samples (every `ceil(n / this)`-th).
 pub const PARTIAL_FIT_SAMPLES: usize = 1000;
 
-/// Descriptor distances $\lVert D_N(j) - D_M(i) \rVert$ from a sample of the partial's
-/// vertices $j$ (every `ceil(n_N / PARTIAL_FIT_SAMPLES)`-th; rows) to every vertex $i$ of the
-/// full shape (columns), for [`partial_fit`].
-pub fn partial_fit_distances(d_full: &Mat<f64>, d_part: &Mat<f64>) -> Result<Mat<f64>> {
+/// Full-shape vertices per block of [`partial_fits`] (bounds its memory to
+/// `PARTIAL_FIT_SAMPLES x PARTIAL_FIT_BLOCK` distances, ~16 MB, for any mesh size).
+const PARTIAL_FIT_BLOCK: usize = 2048;
+
+/// Partial-to-region descriptor fit of each region (lower is better): the mean, over a
+/// sample of the partial's vertices $j$ (every `ceil(n_N / PARTIAL_FIT_SAMPLES)`-th), of
+/// $\min_{i \in R} \lVert D_N(j) - D_M(i) \rVert$, the distance to the nearest descriptor
+/// inside the region $R$ (rows of `d_full` are the full shape's vertices, of `d_part` the
+/// partial's). Every local shape of the partial must be found in the region. SHOT's local
+/// frames are right-handed, so a mirrored patch has a mirrored histogram: unlike the
+/// eigenfunction projections (which average the descriptors over the region), this tells a
+/// region from its mirror twin. NaN for an empty region.
+pub fn partial_fits(d_full: &Mat<f64>, d_part: &Mat<f64>, regions: &[&[bool]]) -> Result<Vec<f64>> {
     if d_full.ncols() != d_part.ncols() {
         return Err(crate::error::Error::InvalidArgument(format!(
             "descriptors of {} and {} dimensions",
@@ -158,32 +167,46 @@ pub fn partial_fit_distances(d_full: &Mat<f64>, d_part: &Mat<f64>) -> Result<Mat
             d_part.ncols()
         )));
     }
+    if let Some(r) = regions.iter().find(|r| r.len() != d_full.nrows()) {
+        return Err(crate::error::Error::InvalidArgument(format!(
+            "a region of {} vertices for {} descriptors",
+            r.len(),
+            d_full.nrows()
+        )));
+    }
     let step = d_part.nrows().div_ceil(PARTIAL_FIT_SAMPLES).max(1);
     let sample: Vec<usize> = (0..d_part.nrows()).step_by(step).collect();
     let d = d_part.ncols();
     let a = Mat::<f64>::from_fn(sample.len(), d, |i, c| d_part[(sample[i], c)]);
-    let mut dot = Mat::<f64>::zeros(sample.len(), d_full.nrows());
-    faer::linalg::matmul::matmul(dot.as_mut(), faer::Accum::Replace, a.as_ref(), d_full.transpose(), 1.0, faer::Par::Seq);
     let a2: Vec<f64> = (0..a.nrows()).map(|i| (0..d).map(|c| a[(i, c)].powi(2)).sum()).collect();
-    let b2: Vec<f64> = (0..d_full.nrows()).map(|j| (0..d).map(|c| d_full[(j, c)].powi(2)).sum()).collect();
-    Ok(Mat::from_fn(a.nrows(), d_full.nrows(), |i, j| (a2[i] + b2[j] - 2.0 * dot[(i, j)]).max(0.0).sqrt()))
-}
-
-/// Partial-to-region descriptor fit (lower is better): the mean over the sampled partial
-/// vertices of the distance to the nearest descriptor inside `region` (columns of
-/// `distances`, from [`partial_fit_distances`]). Every local shape of the partial must be
-/// found in the region. SHOT's local frames are right-handed, so a mirrored patch has a
-/// mirrored histogram: unlike the eigenfunction projections (which average the descriptors
-/// over the region), this tells a region from its mirror twin. NaN for an empty region.
-pub fn partial_fit(distances: MatRef<'_, f64>, region: &[bool]) -> f64 {
-    let inside: Vec<usize> = (0..region.len().min(distances.ncols())).filter(|&j| region[j]).collect();
-    if inside.is_empty() || distances.nrows() == 0 {
-        return f64::NAN;
+    // Running minimum of the squared distance, per region and sampled vertex.
+    let mut nearest = vec![vec![f64::INFINITY; sample.len()]; regions.len()];
+    let n = d_full.nrows();
+    for start in (0..n).step_by(PARTIAL_FIT_BLOCK) {
+        let cols = PARTIAL_FIT_BLOCK.min(n - start);
+        let block = d_full.as_ref().subrows(start, cols);
+        let mut dot = Mat::<f64>::zeros(sample.len(), cols);
+        faer::linalg::matmul::matmul(dot.as_mut(), faer::Accum::Replace, a.as_ref(), block.transpose(), 1.0, faer::Par::Seq);
+        let b2: Vec<f64> = (0..cols).map(|j| (0..d).map(|c| block[(j, c)].powi(2)).sum()).collect();
+        for (region, best) in regions.iter().zip(&mut nearest) {
+            let inside: Vec<usize> = (0..cols).filter(|&j| region[start + j]).collect();
+            for (i, b) in best.iter_mut().enumerate() {
+                for &j in &inside {
+                    *b = b.min(a2[i] + b2[j] - 2.0 * dot[(i, j)]);
+                }
+            }
+        }
     }
-    let total: f64 = (0..distances.nrows())
-        .map(|i| inside.iter().map(|&j| distances[(i, j)]).fold(f64::INFINITY, f64::min))
-        .sum();
-    total / distances.nrows() as f64
+    Ok(nearest
+        .iter()
+        .map(|best| {
+            if best.is_empty() || best[0].is_infinite() {
+                f64::NAN
+            } else {
+                best.iter().map(|x| x.max(0.0).sqrt()).sum::<f64>() / best.len() as f64
+            }
+        })
+        .collect())
 }
 
 /// $|\ln(L_R / L_N)|$: how far a region's boundary length $L_R$ is from the partial's $L_N$
@@ -196,7 +219,7 @@ pub fn boundary_misfit(region_length: f64, partial_length: f64) -> f64 {
     }
 }
 
-/// Exponent $\gamma$ of the [`partial_fit`] in [`Selection::Gated`]'s ranking.
+/// Exponent $\gamma$ of the partial fit ([`partial_fits`]) in [`Selection::Gated`]'s ranking.
 pub const PARTIAL_FIT_EXPONENT: f64 = 2.0;
 
 /// Per-candidate scores the rules of [`choose`] rank by, one entry per candidate (lower is
@@ -211,7 +234,7 @@ pub struct CandidateScores<'a> {
     pub region_cost: &'a [f64],
     /// [`boundary_misfit`] (NaN or missing counts as 0).
     pub boundary_misfit: &'a [f64],
-    /// [`partial_fit`] (an empty slice: not computed, no effect; NaN ranks last).
+    /// [`partial_fits`] (an empty slice: not computed, no effect; NaN ranks last).
     pub partial_fit: &'a [f64],
 }
 
@@ -219,7 +242,7 @@ pub struct CandidateScores<'a> {
 /// go to the lower index, NaN scores rank last. `Gated`: among the candidates of the pool
 /// whose region cost is at most [`REGION_COST_GATE`] times the pool's lowest or at most
 /// `floor` (all of the pool if no region cost is finite), the lowest
-/// $d \, f^\gamma \exp(\beta\,m)$: $d$ the descriptor score, $f$ the [`partial_fit`],
+/// $d \, f^\gamma \exp(\beta\,m)$: $d$ the descriptor score, $f$ the partial fit ([`partial_fits`]),
 /// $\gamma$ = [`PARTIAL_FIT_EXPONENT`], $m$ the [`boundary_misfit`], $\beta$ =
 /// [`BOUNDARY_WEIGHT`]. Returns 0 for an empty pool.
 pub fn choose(rule: Selection, pool: &[usize], scores: &CandidateScores<'_>, floor: f64) -> usize {
@@ -275,28 +298,38 @@ mod tests {
 
     #[test]
     fn partial_fit_is_the_mean_nearest_descriptor_distance_in_the_region() {
-        // Descriptors in 2-D: full rows 0..4, partial rows 0..3.
+        // Descriptors in 2-D: full rows 0..4, partial rows 0..3; nearest over all: 0.1, 0, 0.5.
         let full = Mat::from_fn(4, 2, |i, c| [[0.0, 0.0], [1.0, 0.0], [0.0, 2.0], [5.0, 5.0]][i][c]);
         let part = Mat::from_fn(3, 2, |i, c| [[0.0, 0.1], [1.0, 0.0], [0.0, 2.5]][i][c]);
-        let d = partial_fit_distances(&full, &part).unwrap();
-        assert_eq!((d.nrows(), d.ncols()), (3, 4));
-        for i in 0..3 {
-            for j in 0..4 {
-                let e = ((part[(i, 0)] - full[(j, 0)]).powi(2) + (part[(i, 1)] - full[(j, 1)]).powi(2)).sqrt();
-                assert!((d[(i, j)] - e).abs() < 1e-12);
-            }
-        }
-        // All of the full shape: nearest 0.1, 0, 0.5.
-        assert!((partial_fit(d.as_ref(), &[true; 4]) - 0.2).abs() < 1e-12);
+        let regions: [&[bool]; 3] = [&[true; 4], &[true, false, false, true], &[false; 4]];
+        let f = partial_fits(&full, &part, &regions).unwrap();
+        assert!((f[0] - 0.2).abs() < 1e-12, "{f:?}");
         // A smaller region fits no better; an empty one is NaN.
-        let sub = partial_fit(d.as_ref(), &[true, false, false, true]);
-        assert!(sub >= 0.2 && (sub - (0.1 + 1.0 + 2.5) / 3.0).abs() < 1e-12);
-        assert!(partial_fit(d.as_ref(), &[false; 4]).is_nan());
-        // Many partial vertices are sampled down to at most PARTIAL_FIT_SAMPLES rows.
-        let big = Mat::from_fn(2 * PARTIAL_FIT_SAMPLES + 1, 2, |i, c| (i * (c + 1)) as f64);
-        let n = partial_fit_distances(&full, &big).unwrap().nrows();
-        assert!(n <= PARTIAL_FIT_SAMPLES && n > PARTIAL_FIT_SAMPLES / 2, "{n}");
-        assert!(partial_fit_distances(&full, &Mat::zeros(2, 3)).is_err());
+        assert!((f[1] - (0.1 + 1.0 + 2.5) / 3.0).abs() < 1e-12 && f[1] >= f[0], "{f:?}");
+        assert!(f[2].is_nan());
+        // Against brute force, over several blocks of full-shape vertices and with the
+        // partial's vertices sampled down to at most PARTIAL_FIT_SAMPLES.
+        let n = 2 * PARTIAL_FIT_BLOCK + 5;
+        let big_full = Mat::from_fn(n, 3, |i, c| ((i * (c + 3)) % 17) as f64 + 0.1 * c as f64);
+        let big_part = Mat::from_fn(2 * PARTIAL_FIT_SAMPLES + 1, 3, |i, c| ((i * (c + 5)) % 13) as f64 * 1.3);
+        let region: Vec<bool> = (0..n).map(|i| i % 3 == 0 || i > n - 4).collect();
+        let fit = partial_fits(&big_full, &big_part, &[&region]).unwrap()[0];
+        let step = big_part.nrows().div_ceil(PARTIAL_FIT_SAMPLES);
+        let rows: Vec<usize> = (0..big_part.nrows()).step_by(step).collect();
+        assert!(rows.len() <= PARTIAL_FIT_SAMPLES);
+        let brute = rows
+            .iter()
+            .map(|&r| {
+                (0..n)
+                    .filter(|&j| region[j])
+                    .map(|j| (0..3).map(|c| (big_part[(r, c)] - big_full[(j, c)]).powi(2)).sum::<f64>().sqrt())
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .sum::<f64>()
+            / rows.len() as f64;
+        assert!((fit - brute).abs() < 1e-9, "{fit} vs {brute}");
+        assert!(partial_fits(&full, &Mat::zeros(2, 3), &[]).is_err());
+        assert!(partial_fits(&full, &part, &[&[true; 3]]).is_err());
     }
 
     #[test]
@@ -327,8 +360,8 @@ mod tests {
         let radius = 0.15;
         let describe = |m: &crate::mesh::TriMesh| crate::alignment::shot::shot_descriptors(m, radius, 3).unwrap();
         let d_part = describe(&partial);
-        let own = partial_fit(partial_fit_distances(&describe(&shape), &d_part).unwrap().as_ref(), &region);
-        let mirrored = partial_fit(partial_fit_distances(&describe(&mirror), &d_part).unwrap().as_ref(), &region);
+        let own = partial_fits(&describe(&shape), &d_part, &[&region]).unwrap()[0];
+        let mirrored = partial_fits(&describe(&mirror), &d_part, &[&region]).unwrap()[0];
         eprintln!("partial fit: own region {own:.4}, mirror image {mirrored:.4}");
         assert!(own < 0.7 * mirrored, "own {own}, mirrored {mirrored}");
     }
