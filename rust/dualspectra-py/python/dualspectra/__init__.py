@@ -113,8 +113,10 @@ def localize(
         max_iterations: trust-region iterations per start (default 25).
         threads: worker threads (0 or default: all cores).
         selection: how the result is chosen among the starts: ``"gated"`` (default:
-            the best descriptor score among the starts whose extracted region's own spectra
-            are within 3x of the closest to the partial's), ``"region"`` (those spectra
+            the best descriptor score, times the squared fit of the partial's descriptors
+            to the region's, which tells a region from its mirror image, among the starts
+            whose extracted region's own spectra are within 3x of the closest to the
+            partial's), ``"region"`` (those spectra
             closest), ``"descriptors"``
             (SHOT descriptors, the paper's rule) or ``"cost"`` (lowest optimised cost).
         starts: the starting potentials around each centre: ``"balls-and-wide-bumps"``
