@@ -353,6 +353,39 @@ mod tests {
     }
 
     #[test]
+    fn plane_cut_starts_turn_with_the_shape() {
+        // The same sheared ellipsoid, rotated: each plane-cut well of one is a well of the
+        // other (in some order, as the principal axes' signs may differ), for every prefix of
+        // 6, 14, 26, up to the vertices tied in height at the cut (the icosphere is
+        // symmetric, and rounding after the rotation reorders ties).
+        let base = crate::mesh::generate::icosphere(3).map_positions(|p| [3.0 * p[0], 2.0 * p[1], p[2] + 0.3 * p[0] * p[1]]).unwrap();
+        let turned = base.map_positions(|p| rotate(p, [0.0, 0.6, 0.8], 1.1)).unwrap();
+        let wells = |m: &crate::mesh::TriMesh, n: usize| -> Vec<Vec<bool>> {
+            let shape = crate::shape::Shape::new(m.clone());
+            let total: f64 = shape.mass().iter().sum();
+            let mut w: Vec<Vec<bool>> = plane_cut_starts(shape.mesh().vertices(), shape.mass(), 0.3 * total, n)
+                .iter()
+                .map(|s| s.w0.iter().map(|&x| x < 0.0).collect())
+                .collect();
+            w
+        };
+        let iou = |a: &[bool], b: &[bool]| {
+            let i = a.iter().zip(b).filter(|(x, y)| **x && **y).count() as f64;
+            i / a.iter().zip(b).filter(|(x, y)| **x || **y).count() as f64
+        };
+        for n in [6, 14, 26] {
+            let (a, b) = (wells(&base, n), wells(&turned, n));
+            assert_eq!(a.len(), n);
+            for (x, y) in [(&a, &b), (&b, &a)] {
+                for w in x.iter() {
+                    let best = y.iter().map(|v| iou(w, v)).fold(0.0, f64::max);
+                    assert!(best > 0.95, "prefix {n}: a well's best match in the rotated shape has IoU {best}");
+                }
+            }
+        }
+    }
+
+    #[test]
     fn plane_cut_starts_open_a_well_on_one_side_of_a_plane() {
         let shape = crate::shape::Shape::new(crate::mesh::generate::icosphere(3).map_positions(|p| [2.0 * p[0], p[1], p[2]]).unwrap());
         let (pts, mass) = (shape.mesh().vertices(), shape.mass());
