@@ -5,9 +5,11 @@
 //! Options from the environment: DS_MODE, DS_K, DS_RES, DS_CENTERS, DS_ITERS, DS_FINALISTS,
 //! DS_SELECTION (gated, region, descriptors, cost), DS_DESC_START=1 (descriptor start),
 //! DS_HESSIAN (finite-difference, gauss-newton), DS_EXTRA, DS_START_SHAPE (a `StartShape` name),
-//! DS_SPECTRAL (spectral-cut eigenfunctions);
+//! DS_SPECTRAL (spectral-cut eigenfunctions), DS_PLANES (plane cuts);
 //! DS_VERBOSE lists every start (`*`: finalist; `sup`/`agree`: its region's mean IoU with the
-//! other starts' regions and how many overlap it with IoU > 0.7); DS_PAIRS=a,b runs only the
+//! other starts' regions and how many overlap it with IoU > 0.7; `iou` symmetry-aware,
+//! `direct` against `.baryc_gt` only; `pf` its partial fit; with DS_CHIRAL=1 also `pr`/`rp`,
+//! the fits at full resolution, see `chiral_fits`); DS_PAIRS=a,b runs only the
 //! pairs whose name contains `a` or `b`; DS_REGION_STUDY prints the chosen start's region under
 //! other rules (energy, potential or both ranked, area factors 0.8-1.2, with and without closing).
 
