@@ -202,7 +202,7 @@ pub fn plane_cut_directions(points: &[[f64; 3]], mass: &[f64], count: usize) -> 
                 d[k] += a * e[k];
             }
         }
-        let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        let l = crate::geometry::angles::norm(d);
         d.map(|x| x / l)
     };
     for s in 0..8 {
@@ -231,7 +231,7 @@ pub fn plane_cut_starts(points: &[[f64; 3]], mass: &[f64], area: f64, count: usi
         .iter()
         .enumerate()
         .map(|(j, d)| {
-            let height: Vec<f64> = points.iter().map(|p| p[0] * d[0] + p[1] * d[1] + p[2] * d[2]).collect();
+            let height: Vec<f64> = points.iter().map(|&p| crate::geometry::angles::dot(p, *d)).collect();
             let region = crate::region::energy::area_matched_region(&height, mass, area);
             let mut start = mask_start(&region, &format!("plane{j}"));
             start.family = "well";
@@ -248,6 +248,7 @@ pub fn mask_start(mask: &[bool], label: &str) -> Start {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::angles::{cross, dot};
     #[test]
     fn fps_is_deterministic_spread_and_distinct() {
         let m = crate::mesh::generate::icosphere(3);
@@ -307,17 +308,11 @@ mod tests {
         assert!(n > 0 && n < 100, "{n} starts on 12 vertices");
     }
 
-    fn dot3(a: [f64; 3], b: [f64; 3]) -> f64 {
-        a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-    }
-
     /// `p` rotated by `angle` about the unit `axis` (Rodrigues).
     fn rotate(p: [f64; 3], axis: [f64; 3], angle: f64) -> [f64; 3] {
         let (c, s) = (angle.cos(), angle.sin());
-        let k = axis;
-        let kxp = [k[1] * p[2] - k[2] * p[1], k[2] * p[0] - k[0] * p[2], k[0] * p[1] - k[1] * p[0]];
-        let kp = dot3(k, p);
-        [0, 1, 2].map(|i| p[i] * c + kxp[i] * s + k[i] * kp * (1.0 - c))
+        let (kxp, kp) = (cross(axis, p), dot(axis, p));
+        [0, 1, 2].map(|i| p[i] * c + kxp[i] * s + axis[i] * kp * (1.0 - c))
     }
 
     #[test]
@@ -334,19 +329,19 @@ mod tests {
         let dirs = plane_cut_directions(shape.mesh().vertices(), shape.mass(), 100);
         assert_eq!(dirs.len(), MAX_PLANE_CUTS);
         let (long, mid) = (rotate([1.0, 0.0, 0.0], axis, 0.7), rotate([0.0, 1.0, 0.0], axis, 0.7));
-        assert!(dot3(dirs[0], long).abs() > 1.0 - 1e-9 && dot3(dirs[1], long).abs() > 1.0 - 1e-9);
-        assert!(dot3(dirs[2], mid).abs() > 1.0 - 1e-9);
+        assert!(dot(dirs[0], long).abs() > 1.0 - 1e-9 && dot(dirs[1], long).abs() > 1.0 - 1e-9);
+        assert!(dot(dirs[2], mid).abs() > 1.0 - 1e-9);
         for d in &dirs {
-            assert!((dot3(*d, *d) - 1.0).abs() < 1e-12);
+            assert!((dot(*d, *d) - 1.0).abs() < 1e-12);
         }
         for n in [6, 14, 26] {
             for d in &dirs[..n] {
-                assert!(dirs[..n].iter().any(|e| dot3(*d, *e) < -1.0 + 1e-12), "prefix {n} misses -{d:?}");
+                assert!(dirs[..n].iter().any(|e| dot(*d, *e) < -1.0 + 1e-12), "prefix {n} misses -{d:?}");
             }
         }
         for i in 0..dirs.len() {
             for j in 0..i {
-                assert!(dot3(dirs[i], dirs[j]) < 1.0 - 1e-6, "directions {i} and {j} repeat");
+                assert!(dot(dirs[i], dirs[j]) < 1.0 - 1e-6, "directions {i} and {j} repeat");
             }
         }
         assert_eq!(plane_cut_directions(shape.mesh().vertices(), shape.mass(), 6).len(), 6);
@@ -363,11 +358,10 @@ mod tests {
         let wells = |m: &crate::mesh::TriMesh, n: usize| -> Vec<Vec<bool>> {
             let shape = crate::shape::Shape::new(m.clone());
             let total: f64 = shape.mass().iter().sum();
-            let mut w: Vec<Vec<bool>> = plane_cut_starts(shape.mesh().vertices(), shape.mass(), 0.3 * total, n)
+            plane_cut_starts(shape.mesh().vertices(), shape.mass(), 0.3 * total, n)
                 .iter()
                 .map(|s| s.w0.iter().map(|&x| x < 0.0).collect())
-                .collect();
-            w
+                .collect()
         };
         let iou = |a: &[bool], b: &[bool]| {
             let i = a.iter().zip(b).filter(|(x, y)| **x && **y).count() as f64;
@@ -399,7 +393,7 @@ mod tests {
             let a = well_area(&s.w0, mass);
             assert!(a >= 0.25 * total && a <= 0.25 * total + max_mass, "{}: {a}", s.label);
             // Every vertex of the well lies above every vertex outside it along d.
-            let h = |p: &[f64; 3]| dot3(*p, *d);
+            let h = |p: &[f64; 3]| dot(*p, *d);
             let low = pts.iter().zip(&s.w0).filter(|(_, w)| **w < 0.0).map(|(p, _)| h(p)).fold(f64::INFINITY, f64::min);
             let high = pts.iter().zip(&s.w0).filter(|(_, w)| **w > 0.0).map(|(p, _)| h(p)).fold(f64::NEG_INFINITY, f64::max);
             assert!(low >= high, "{}: well not on one side ({low} < {high})", s.label);
