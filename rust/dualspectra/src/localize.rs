@@ -360,7 +360,7 @@ pub struct Candidate {
     /// $|\ln(L_R / L_N)|$: boundary length of the region against the partial's (NaN if either is 0).
     pub boundary_misfit: f64,
     /// Partial fit of the region ([`crate::alignment::selection::partial_fits`]; NaN if not
-    /// scored).
+    /// scored: scored for the finalists under [`Selection::Gated`] only).
     pub partial_fit: f64,
     pub iterations: usize,
     pub evaluations: usize,

@@ -321,12 +321,6 @@ pub(crate) fn run(
     let mut region_costs = vec![f64::NAN; ok.len()];
     let mut partial_fits = vec![f64::NAN; ok.len()];
     if let (true, Some((d_full, d_part))) = (options.selection != Selection::Cost, &shot) {
-        let scored: Vec<usize> = (0..ok.len()).filter(|&i| ok[i].finalist).collect();
-        let regions: Vec<&[bool]> = scored.iter().map(|&i| opt_regions[i].as_slice()).collect();
-        let fits = crate::alignment::selection::partial_fits(d_full, d_part, &regions)?;
-        for (&i, f) in scored.iter().zip(fits) {
-            partial_fits[i] = f;
-        }
         let metrics: Vec<Metric> = terms.iter().map(|t| t.metric).collect();
         let heights: Vec<f64> = terms.iter().map(|t| 2.0 * t.height).collect();
         let targets =
@@ -338,6 +332,14 @@ pub(crate) fn run(
         // while warm-chained scoring solves still missed eigenvalues, see `selection_scores`).
         let finalist_regions: Vec<Vec<bool>> =
             finalists.iter().map(|&i| opt_regions[i].clone()).collect();
+        // Only the gated rule ranks by the partial fit.
+        if options.selection == Selection::Gated {
+            let regions: Vec<&[bool]> = finalist_regions.iter().map(Vec::as_slice).collect();
+            let fits = crate::alignment::selection::partial_fits(d_full, d_part, &regions)?;
+            for (&i, f) in finalists.iter().zip(fits) {
+                partial_fits[i] = f;
+            }
+        }
         let target_values: Vec<Vec<f64>> = terms.iter().map(|t| t.target.clone()).collect();
         let scores = workers.install(|| {
             crate::alignment::selection::selection_scores(
