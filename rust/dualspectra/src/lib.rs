@@ -1,15 +1,19 @@
 //! # dualspectra
 //!
-//! Partial shape localization by multi-metric Hamiltonian spectra matching
-//! (Bracha, Halimi, Kimmel; the algorithm is restated in `shared/paper/ALGORITHM.md`).
+//! Partial shape localization by multi-metric Hamiltonian spectra matching (Bracha, Halimi,
+//! Kimmel, "Partial Shape Similarity by Multi-metric Hamiltonian Spectra Matching"; the
+//! method as this crate implements it: `docs/algorithm.md`).
 //!
-//! The pipeline is the module tree, each module using only the ones above it:
+//! The pipeline is the module tree; each module uses only the ones before it (a test keeps
+//! it so):
 //!
-//! `mesh` -> `geometry` (curvature, metric) -> `operators` (stiffness, mass,
-//! Dirichlet, Hamiltonian) -> `spectra` (eigensolver) -> `alignment` (cost,
-//! gradient, optimiser, starts, SHOT, selection) -> `region` -> `evaluation`.
+//! [`mesh`] -> [`geometry`] (curvature, metric, SHOT) -> [`operators`] (stiffness, mass,
+//! Dirichlet) -> [`spectra`] (eigensolvers) -> [`shape`] (a mesh with cached operators) ->
+//! [`alignment`] (cost, optimiser, starts) -> [`region`] -> [`selection`] -> [`localizer`]
+//! -> [`evaluation`].
 //!
-//! The one-call entry point is [`localize`].
+//! Entry points: [`Localizer`] (prepare a full shape once, locate many partials) and
+//! [`localize`] (one call).
 
 pub mod error;
 pub mod progress;
@@ -20,16 +24,14 @@ pub mod spectra;
 pub mod shape;
 pub mod alignment;
 pub mod region;
-pub mod localize;
+pub mod selection;
+pub mod localizer;
 pub mod evaluation;
-mod pipeline;
 
 pub use error::{Error, MeshError, Result};
+pub use localizer::{localize, localize_with_initial_regions, Candidate, Localization, Localizer, Mode, Options, Timings};
 pub use mesh::TriMesh;
 pub use progress::Progress;
-pub use localize::{
-    localize, localize_with_initial_regions, Candidate, Localization, Mode, Options, Selection, StartShape, Timings,
-};
 
 /// Version of the core library (the crate version).
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");

@@ -7,7 +7,7 @@ use crate::error::{Error, Result};
 use crate::geometry::{self, metric};
 use crate::mesh::{topology, TriMesh};
 use crate::operators::{self, Dirichlet, SparseMatrix};
-use crate::spectra::{generalized_eigen, EigenParams, Spectrum};
+use crate::spectra::{generalized_eigen, EigenParams, Spectrum, SymbolicHamiltonian};
 use serde::{Deserialize, Serialize};
 use std::sync::OnceLock;
 
@@ -48,6 +48,7 @@ pub struct Shape {
     boundary: OnceLock<Vec<bool>>,
     dirichlet: OnceLock<Dirichlet>,
     restricted_stiffness: OnceLock<SparseMatrix>,
+    symbolic: OnceLock<SymbolicHamiltonian>,
 }
 
 impl Shape {
@@ -70,6 +71,7 @@ impl Shape {
             boundary: OnceLock::new(),
             dirichlet: OnceLock::new(),
             restricted_stiffness: OnceLock::new(),
+            symbolic: OnceLock::new(),
         }
     }
 
@@ -147,6 +149,16 @@ impl Shape {
     pub fn dirichlet_stiffness(&self) -> &SparseMatrix {
         self.restricted_stiffness.get_or_init(|| self.dirichlet().restrict_matrix(self.stiffness()))
     }
+    /// The symbolic Cholesky analysis of the Dirichlet stiffness, shared by every
+    /// [`crate::spectra::HamiltonianSolver`] on this shape (every start, both metrics).
+    pub fn dirichlet_symbolic(&self) -> Result<&SymbolicHamiltonian> {
+        if let Some(s) = self.symbolic.get() {
+            return Ok(s);
+        }
+        let s = SymbolicHamiltonian::new(self.dirichlet_stiffness())?;
+        Ok(self.symbolic.get_or_init(|| s))
+    }
+
     /// The `k` smallest eigenpairs of $W\phi = \mu M\phi$ on the interior vertices
     /// (homogeneous Dirichlet conditions on the boundary, none on a closed mesh), with
     /// $M$ the mass of `metric`. Eigenvectors are indexed by the free vertices

@@ -2,7 +2,7 @@
 //! vertex count near the target, area kept, boundary kept, valid mesh, exact transfer at
 //! kept vertices; and the timing of SHOT on the decimated shape.
 
-use dualspectra::alignment::shot::{default_shot_radius, shot_descriptors, DEFAULT_MIN_NEIGHBORS};
+use dualspectra::geometry::shot::{default_shot_radius, shot_descriptors, DEFAULT_MIN_NEIGHBORS};
 use dualspectra::mesh::decimate::decimate;
 use dualspectra::mesh::io::read_mesh;
 use dualspectra::mesh::nearest::{nearest_vertices, transfer};

@@ -1,7 +1,7 @@
 //! End-to-end laws of the localizer on small generated shapes (seconds, not minutes).
 
 use dualspectra::mesh::generate::icosphere;
-use dualspectra::{localize, Error, Mode, Options, Progress, Selection, StartShape, TriMesh};
+use dualspectra::{localize, Error, Localizer, Mode, Options, Progress, TriMesh};
 
 /// An asymmetric closed shape: a unit icosphere with three bumps of different sizes.
 fn bumpy_sphere(level: u32) -> TriMesh {
@@ -49,35 +49,12 @@ fn finds_an_undeformed_cut() {
     let res = localize(&full, &part, &quick(), &Progress::none()).unwrap();
     let score = iou(&res.region, &truth);
     assert!(score > 0.9, "IoU {score}, cost {}", res.cost);
-    assert_eq!(
-        res.n_starts,
-        StartShape::default().starts_per_centre() * quick().centers + 6,
-        "3 starts per centre and 6 plane cuts by default"
-    );
+    assert_eq!(res.n_starts, 3 * quick().centers + 6, "3 starts per centre and 6 plane cuts by default");
     assert_eq!(Options::default().plane_cuts, 6);
-    assert_eq!(StartShape::default().starts_per_centre(), 3);
     assert_eq!(res.region.len(), full.n_vertices());
     assert_eq!(res.eigenvalues_regular.len(), 10);
     assert_eq!(res.eigenvalues_si.len(), 10);
     assert!(res.score.iter().all(|s| (0.0..=1.0).contains(s)));
-}
-
-#[test]
-fn every_start_shape_finds_an_undeformed_cut() {
-    // The cut of `finds_an_undeformed_cut` (which runs the default, `BallsAndWideBumps`),
-    // with the other shapes of starts: each finds it and gives its documented number of starts.
-    let full = bumpy_sphere(3);
-    let (part, truth) = cut(&full, |p| p[2] > 0.1);
-    for (shape, per_centre) in
-        [(StartShape::Gaussian, 4), (StartShape::AreaBall, 2), (StartShape::BallsAndWideGaussians, 4)]
-    {
-        let o = Options { start_shape: shape, ..quick() };
-        let res = localize(&full, &part, &o, &Progress::none()).unwrap();
-        assert_eq!(shape.starts_per_centre(), per_centre);
-        assert_eq!(res.n_starts, per_centre * o.centers + o.plane_cuts, "{shape:?}");
-        let score = iou(&res.region, &truth);
-        assert!(score > 0.9, "{shape:?}: IoU {score}, cost {}", res.cost);
-    }
 }
 
 #[test]
@@ -89,7 +66,7 @@ fn plane_cuts_find_an_oblique_half() {
     let (part, truth) = cut(&full, |p| p[0] + p[1] > 0.4);
     let o = Options { centers: 1, plane_cuts: 14, ..quick() };
     let res = localize(&full, &part, &o, &Progress::none()).unwrap();
-    assert_eq!(res.n_starts, StartShape::default().starts_per_centre() + 14);
+    assert_eq!(res.n_starts, 3 + 14);
     let labels: Vec<&str> = res.candidates.iter().map(|c| c.label.as_str()).collect();
     assert!((0..14).all(|j| labels.contains(&format!("plane{j}").as_str())), "{labels:?}");
     let score = iou(&res.region, &truth);
@@ -103,51 +80,9 @@ fn plane_cuts_find_an_oblique_half() {
 }
 
 #[test]
-fn spectral_cuts_find_the_end_of_an_elongated_shape() {
-    // The bumpy sphere stretched 2.5x along x and cut at x > 0.8: a cut across the long axis,
-    // which the first eigenfunction's level sets follow. The spectral-cut starts (two per
-    // eigenfunction, labelled cut{j}+ / cut{j}-) run beside the centres' and the cut is found.
-    let full = bumpy_sphere(3).map_positions(|p| [2.5 * p[0], p[1], p[2]]).unwrap();
-    let (part, truth) = cut(&full, |p| p[0] > 0.8);
-    let o = Options { centers: 1, spectral_cuts: 2, ..quick() };
-    let res = localize(&full, &part, &o, &Progress::none()).unwrap();
-    assert_eq!(res.n_starts, StartShape::default().starts_per_centre() + o.plane_cuts + 4);
-    let labels: Vec<&str> = res.candidates.iter().map(|c| c.label.as_str()).collect();
-    for l in ["cut1+", "cut1-", "cut2+", "cut2-"] {
-        assert!(labels.contains(&l), "{labels:?}");
-    }
-    let score = iou(&res.region, &truth);
-    assert!(score > 0.9, "IoU {score} ({}), cost {}", labels[res.selected_start], res.cost);
-}
-
-/// A named option enum: `all` starts with the default; each name parses back (any case), is
-/// its `Display` and its serde form; `bad` is an error listing every name.
-fn assert_names_round_trip<T>(all: &[T], name: fn(T) -> &'static str, bad: &str)
-where
-    T: Copy + Default + PartialEq + std::fmt::Debug + std::fmt::Display + serde::Serialize,
-    T: std::str::FromStr<Err = Error>,
-{
-    assert_eq!(all[0], T::default());
-    for &v in all {
-        assert_eq!(name(v).parse::<T>().unwrap(), v);
-        assert_eq!(name(v).to_ascii_uppercase().parse::<T>().unwrap(), v);
-        assert_eq!(v.to_string(), name(v));
-        assert_eq!(serde_json::to_value(v).unwrap(), serde_json::Value::String(name(v).into()));
-    }
-    let err = bad.parse::<T>().unwrap_err().to_string();
-    assert!(all.iter().all(|&v| err.contains(name(v))), "{err}");
-}
-
-#[test]
-fn start_shape_names_round_trip_and_match_serde() {
-    assert_names_round_trip(&StartShape::ALL, StartShape::name, "balls");
-    assert_eq!("Area-Ball".parse::<StartShape>().unwrap(), StartShape::AreaBall);
-}
-
-#[test]
-fn selection_names_round_trip_and_match_serde() {
-    assert_names_round_trip(&Selection::ALL, Selection::name, "best");
-    assert_eq!("Gated".parse::<Selection>().unwrap(), Selection::Gated);
+fn mode_names_round_trip_and_match_serde() {
+    assert_names_round_trip(&Mode::ALL, Mode::name, "both");
+    assert_eq!("LBO".parse::<Mode>().unwrap(), Mode::Lbo);
 }
 
 #[test]
@@ -216,10 +151,14 @@ fn bad_inputs_give_clear_errors() {
     // Bad options.
     let e = localize(&full, &part, &Options { k: 0, ..quick() }, &Progress::none()).unwrap_err();
     assert!(matches!(e, Error::InvalidArgument(_)), "{e}");
-    let e = localize(&full, &part, &Options { spectral_cuts: 1_000_000, ..quick() }, &Progress::none()).unwrap_err();
-    assert!(e.to_string().contains("spectral_cuts"), "{e}");
+    let e = localize(&full, &part, &Options { centers: 1_000_000, ..quick() }, &Progress::none()).unwrap_err();
+    assert!(e.to_string().contains("centers = 1000000 must be an integer in 0..=64"), "{e}");
     let e = localize(&full, &part, &Options { plane_cuts: 27, ..quick() }, &Progress::none()).unwrap_err();
-    assert!(e.to_string().contains("plane_cuts = 27 must be at most 26"), "{e}");
+    assert!(e.to_string().contains("plane_cuts = 27 must be an integer in 0..=26"), "{e}");
+    let e = localize(&full, &part, &Options { threads: 100_000, ..quick() }, &Progress::none()).unwrap_err();
+    assert!(e.to_string().contains("threads"), "{e}");
+    let e = localize(&full, &part, &Options { centers: 0, plane_cuts: 0, ..quick() }, &Progress::none()).unwrap_err();
+    assert!(e.to_string().contains("no starts"), "{e}");
     // Too many eigenvalues for a tiny partial.
     let (tiny, _) = cut(&full, |p| p[2] > 0.93);
     let e = localize(&full, &tiny, &Options { k: 200, ..quick() }, &Progress::none()).unwrap_err();
@@ -257,62 +196,50 @@ fn progress_is_reported_and_cancel_stops() {
     assert!(matches!(e, Error::Cancelled));
 }
 
-/// Successive halving: of 16 starts (8 wells, 8 bumps), `finalists` run to the end and only they are
-/// selected from; a given region is never pruned, and starting from the truth keeps it.
+/// A given region is one more start (labelled `given#0`, first); started from the truth it
+/// ends on the truth.
 #[test]
-fn halving_keeps_finalists_and_given_regions() {
+fn a_given_region_is_a_start() {
     let full = bumpy_sphere(3);
     let (part, truth) = cut(&full, |p| p[0] + 0.3 * p[1] > 0.2);
-    let o = Options { finalists: 4, start_shape: StartShape::BallsAndWideGaussians, plane_cuts: 0, ..quick() };
+    let o = Options { plane_cuts: 0, ..quick() };
     let res = dualspectra::localize_with_initial_regions(&full, &part, &o, &[truth.clone()], &Progress::none()).unwrap();
-    assert_eq!(res.candidates.len(), 17);
+    assert_eq!(res.candidates.len(), 1 + 3 * o.centers);
     let given = &res.candidates[0];
     assert_eq!(given.label, "given#0");
-    assert!(given.finalist && given.iterations > 0);
+    assert!(given.iterations > 0);
     assert!(iou(&given.region, &truth) > 0.9, "IoU from the truth {}", iou(&given.region, &truth));
-    let finalists: Vec<_> = res.candidates.iter().filter(|c| c.finalist).collect();
-    assert_eq!(finalists.len(), 5, "2 wells + 2 bumps + the given region");
-    assert!(res.candidates[res.selected_start].finalist);
-    // Pruned starts stopped early; finalists ran longer.
-    let max_pruned = res.candidates.iter().filter(|c| !c.finalist).map(|c| c.iterations).max().unwrap();
-    assert!(max_pruned < o.max_iterations / 2 + 1, "pruned ran {max_pruned}");
-    // Survivors of a round had the lowest costs of that round: every finalist's cost is
-    // below the worst pruned one.
-    let worst_pruned = res.candidates.iter().filter(|c| !c.finalist).map(|c| c.cost).fold(0.0, f64::max);
-    assert!(finalists.iter().all(|c| c.cost <= worst_pruned));
-
     // A mask of the wrong length is a clear error.
     let err = dualspectra::localize_with_initial_regions(&full, &part, &o, &[vec![true; 3]], &Progress::none());
     assert!(matches!(err, Err(Error::InvalidArgument(_))), "{err:?}");
 }
 
-
-/// Extra iterations go only to the starts still converging (cost down by > 10% over their
-/// last 10 iterations), at most `extra_iterations` more; the others stop at `max_iterations`.
+/// A prepared full shape locates several partials, concurrently, with the same results as
+/// one-call localizations; every candidate carries all four scores.
 #[test]
-fn extra_iterations_go_to_the_starts_still_converging() {
+fn one_localizer_locates_several_partials_as_one_call_does() {
     let full = bumpy_sphere(3);
-    let (part, truth) = cut(&full, |p| p[2] > 0.1);
-    let base = quick();
-    let more = Options { extra_iterations: 20, ..base.clone() };
-    let m = base.max_iterations;
-    let a = localize(&full, &part, &base, &Progress::none()).unwrap();
-    let b = localize(&full, &part, &more, &Progress::none()).unwrap();
-    let mut extended = 0;
-    for (ca, cb) in a.candidates.iter().zip(&b.candidates) {
-        assert_eq!(ca.label, cb.label);
-        assert!(cb.iterations <= m + 20, "{}: {} iterations", cb.label, cb.iterations);
-        if ca.iterations < m {
-            // Converged before the budget: nothing to extend.
-            assert_eq!(ca.iterations, cb.iterations, "{}", cb.label);
-        } else if cb.iterations > m {
-            extended += 1;
-            assert!(cb.cost <= ca.cost, "{}: cost {} -> {}", cb.label, ca.cost, cb.cost);
-        } else {
-            assert_eq!(ca.cost, cb.cost, "{}: not extended, same run", cb.label);
+    let (top, top_truth) = cut(&full, |p| p[2] > 0.1);
+    let (side, side_truth) = cut(&full, |p| p[0] > 0.3);
+    let o = Options { resolution: 300, ..quick() };
+    let localizer = Localizer::new(&full, &o).unwrap();
+    assert_eq!(localizer.n_vertices(), full.n_vertices());
+    assert!(localizer.optimisation_vertices() < full.n_vertices());
+    let (a, b) = std::thread::scope(|s| {
+        let a = s.spawn(|| localizer.locate(&top, &Progress::none()).unwrap());
+        let b = s.spawn(|| localizer.locate(&side, &Progress::none()).unwrap());
+        (a.join().unwrap(), b.join().unwrap())
+    });
+    for (found, partial, truth) in [(&a, &top, &top_truth), (&b, &side, &side_truth)] {
+        let once = localize(&full, partial, &o, &Progress::none()).unwrap();
+        assert_eq!(found.region, once.region);
+        assert_eq!(found.cost.to_bits(), once.cost.to_bits());
+        assert_eq!(found.timings.preparation, 0.0);
+        assert!(once.timings.preparation > 0.0);
+        assert!(iou(&found.region, truth) > 0.75, "IoU {}", iou(&found.region, truth));
+        for c in &found.candidates {
+            let s = c.scores;
+            assert!(s.descriptor_score.is_some() && s.region_cost.is_some() && s.partial_fit.is_some(), "{}: {s:?}", c.label);
         }
     }
-    assert!(extended > 0, "no start was still converging after {m} iterations");
-    assert!(extended < b.candidates.len(), "every start was extended");
-    assert!(iou(&b.region, &truth) > 0.9, "IoU {}", iou(&b.region, &truth));
 }

@@ -1,7 +1,7 @@
-//! Laws of the choice among candidate regions (alignment::selection) on an undeformed cut.
+//! Laws of the choice among candidate regions (selection) on an undeformed cut.
 
-use dualspectra::alignment::selection::{partial_signatures, selection_scores};
-use dualspectra::alignment::shot::{shot_descriptors, DEFAULT_MIN_NEIGHBORS, DEFAULT_RADIUS_FRACTION};
+use dualspectra::selection::{partial_signatures, selection_scores};
+use dualspectra::geometry::shot::{shot_descriptors, DEFAULT_MIN_NEIGHBORS, DEFAULT_RADIUS_FRACTION};
 use dualspectra::mesh::generate::icosphere;
 use dualspectra::shape::{Metric, Shape};
 use dualspectra::TriMesh;

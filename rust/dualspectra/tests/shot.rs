@@ -1,8 +1,8 @@
-//! Laws of the SHOT descriptor (`alignment::shot`): rigid-motion and scale invariance,
+//! Laws of the SHOT descriptor (`geometry::shot`): rigid-motion and scale invariance,
 //! unit norm, equality on a sphere, and agreement at true correspondences of a SHREC'16
 //! pair (skipped when `$DUALSPECTRA_DATA` is not set).
 
-use dualspectra::alignment::shot::{
+use dualspectra::geometry::shot::{
     default_shot_radius, shot_descriptors, shot_keypoint_descriptors, shot_with_frames, LocalFrame, Shot,
     DEFAULT_MIN_NEIGHBORS, SHOT_DIM,
 };

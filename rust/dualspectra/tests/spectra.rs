@@ -323,7 +323,7 @@ fn tiny_moves_skip_the_inertia_check_and_still_match_cold() {
 #[test]
 fn hamiltonian_with_large_potential_localises() {
     // v = 0 on a cap, high elsewhere: the eigenvalues exceed those of the free sphere and stay
-    // below the potential height (ALGORITHM.md, "Spectra": eigenfunctions decay where v is large).
+    // below the potential height (docs/algorithm.md, "Spectra": eigenfunctions decay where v is large).
     let mesh = icosphere(3);
     let (w, m) = (cotangent_stiffness(&mesh), lumped_mass(&mesh));
     let tau = 1e3;

@@ -2,7 +2,7 @@
 //!
 //! Per vertex: the angle-defect Gaussian curvature $K_i = (2\pi - \sum\theta)/a_i$
 //! ($\pi - \sum\theta$ on the boundary, $a_i$ the lumped area) and its one-ring mean, the
-//! curvature the scale-invariant metric uses (ALGORITHM.md, "Discrete operators"), both
+//! curvature the scale-invariant metric uses (docs/algorithm.md, "Discrete operators"), both
 //! from `dualspectra::shape::Shape`. Writes `{"gaussian_curvature": [...], "smoothed": [...]}`
 //! to `OUT` with `--json`, to standard output otherwise. Arrays follow the file's vertex
 //! numbering; a vertex that reading dropped (isolated with `--drop-isolated`, or the tip

@@ -40,10 +40,7 @@ fn out_err(e: dualspectra::Error) -> CliError {
 
 pub fn run(args: Args) -> Result<(), CliError> {
     // Lighter defaults than `localize` so the demo takes seconds: k = 10, 4 centres.
-    let mut opts = args.options.clone();
-    opts.k = opts.k.or(Some(10));
-    opts.centers = opts.centers.or(Some(4));
-    let options = opts.to_options()?;
+    let options = args.options.to_options_from(dualspectra::Options { k: 10, centers: 4, ..Default::default() })?;
     std::fs::create_dir_all(&args.out).map_err(|source| CliError::Output {
         path: args.out.clone(),
         source,

@@ -2,7 +2,7 @@
 //! [--json OUT] [--ply OUT]`
 //!
 //! Finds the region of `FULL` that `PARTIAL` (a deformed, cut copy) corresponds to, with
-//! `dualspectra::localize` (ALGORITHM.md, whole pipeline). Writes the result as JSON
+//! `dualspectra::localize` (docs/algorithm.md, whole pipeline). Writes the result as JSON
 //! (`region`: 0-based vertex indices of FULL; `cost`; `seconds`; `mode`; `n_starts`;
 //! `timings`; the eigenvalues at the optimum and the partial's target spectra) to `OUT`
 //! with `--json`, else to standard output; `--ply` writes FULL with the region coloured
@@ -11,181 +11,93 @@
 use crate::error::CliError;
 use crate::input::read_input_mesh;
 use crate::output::{to_json_line, write_text};
-use dualspectra::localize::HessianModel;
-use dualspectra::{Localization, Mode, Options, Progress, Selection, StartShape, Timings, TriMesh};
+use dualspectra::localizer::{OptionKind, OPTIONS};
+use dualspectra::{Localization, Localizer, Options, Progress, Timings, TriMesh};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum ModeArg {
-    /// k regular + k scale-invariant eigenvalues (the paper's method).
-    Dual,
-    /// 2k Laplace-Beltrami eigenvalues only.
-    Lbo,
-    /// 2k scale-invariant eigenvalues only.
-    Si,
-}
-
-impl From<ModeArg> for Mode {
-    fn from(m: ModeArg) -> Mode {
-        match m {
-            ModeArg::Dual => Mode::Dual,
-            ModeArg::Lbo => Mode::Lbo,
-            ModeArg::Si => Mode::Si,
-        }
-    }
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum HessianArg {
-    /// Finite differences of the gradient (two eigensolves per inner step, as Manopt).
-    FiniteDifference,
-    /// Gauss-Newton model from the gradient's eigenpairs (no extra eigensolve).
-    GaussNewton,
-}
-
-impl From<HessianArg> for HessianModel {
-    fn from(h: HessianArg) -> HessianModel {
-        match h {
-            HessianArg::FiniteDifference => HessianModel::FiniteDifference,
-            HessianArg::GaussNewton => HessianModel::GaussNewton,
-        }
-    }
-}
-
-/// A value among the library's names of a named option (`--starts`, `--selection`): help
-/// lists `names`, the library parses the value.
-fn library_names_parser<T, const N: usize>(
-    names: [&'static str; N],
-) -> impl clap::builder::TypedValueParser<Value = T>
-where
-    T: std::str::FromStr<Err = dualspectra::Error> + Clone + Send + Sync + 'static,
-{
-    use clap::builder::TypedValueParser;
-    clap::builder::PossibleValuesParser::new(names).try_map(|s| s.parse::<T>())
-}
-
-/// The localizer's options shared by `localize` and `bench`.
-#[derive(Debug, Clone, clap::Args)]
+/// The localizer's options shared by `localize` and `bench`: one flag per entry of the
+/// library's option table (`--name` with `-` for `_`), help, range and default from it.
+#[derive(Debug, Clone, Default)]
 pub struct LocalizeOptions {
-    /// Which spectra are matched.
-    #[arg(long, value_enum, default_value_t = ModeArg::Dual)]
-    pub mode: ModeArg,
-    /// Eigenvalues per spectrum (dual: k + k; lbo, si: 2k) [default: the library's, 20].
-    #[arg(long, value_name = "K")]
-    pub k: Option<usize>,
-    /// Exponent of the scale-invariant metric [default: 0.33].
-    #[arg(long, value_name = "A", allow_negative_numbers = true)]
-    pub alpha: Option<f64>,
-    /// Seed of every random choice (results are deterministic for a given seed).
-    #[arg(long, value_name = "N", default_value_t = 0)]
-    pub seed: u64,
-    /// Farthest-point centres of the starts (3 starts each; 4 with `--starts gaussian` or
-    /// `balls-and-wide-gaussians`, 2 with `area-ball`) [default: the library's, 4; the paper
-    /// used 10].
-    #[arg(long, value_name = "N")]
-    pub centers: Option<usize>,
-    /// The starting potentials around each centre: balls-and-wide-bumps (a well on the ball
-    /// of the partial's area, one on everything but a ball, a wide Gaussian bump),
-    /// balls-and-wide-gaussians (and a wide Gaussian well), gaussian (the reference's, two
-    /// widths, both signs), area-ball (the two balls) [default: the library's,
-    /// balls-and-wide-bumps].
-    #[arg(long, value_name = "SHAPE", value_parser = library_names_parser::<StartShape, 4>(StartShape::ALL.map(StartShape::name)))]
-    pub starts: Option<StartShape>,
-    /// Further starts from the full shape's first N eigenfunctions, two each (the region on
-    /// either side of a level set, with the partial's area) [default: the library's, 0].
-    #[arg(long, value_name = "N")]
-    pub spectral_cuts: Option<usize>,
-    /// Plane-cut starts: the side of a plane with the partial's area, normal to the first N
-    /// of 26 directions (6: both ways along the full shape's principal axes; 14: and the
-    /// diagonals; 26: and the face diagonals) [default: the library's, 6].
-    #[arg(long, value_name = "N")]
-    pub plane_cuts: Option<usize>,
-    /// Trust-region iterations per start [default: the library's, 25].
-    #[arg(long, value_name = "N")]
-    pub iterations: Option<usize>,
-    /// Further trust-region iterations for the starts whose cost still fell by more than 10%
-    /// over their last 10 iterations; 0 = none [default: the library's].
-    #[arg(long, value_name = "N")]
-    pub extra_iterations: Option<usize>,
-    /// Vertices of the decimated full shape the potential is optimised on; 0 = no decimation
-    /// [default: the library's].
-    #[arg(long, value_name = "N")]
-    pub resolution: Option<usize>,
-    /// Successive halving: keep this many starts (per kind) to the full iteration budget,
-    /// dropping the costliest at 1/8, 1/4, 1/2 of it; 0 = run every start fully
-    /// [default: the library's].
-    #[arg(long, value_name = "N")]
-    pub finalists: Option<usize>,
-    /// The trust region's model Hessian [default: the library's].
-    #[arg(long, value_enum, value_name = "MODEL")]
-    pub hessian: Option<HessianArg>,
-    /// How the result is chosen among the optimised starts: gated (the lowest descriptor
-    /// score among the regions whose own spectra fit within 3x of the best), region (the
-    /// region's spectra alone), descriptors (the paper's rule), cost (the lowest final cost)
-    /// [default: the library's, gated].
-    #[arg(long, value_name = "RULE", value_parser = library_names_parser::<Selection, 4>(Selection::ALL.map(Selection::name)))]
-    pub selection: Option<Selection>,
+    /// The flags given, as (option name, text).
+    given: Vec<(&'static str, String)>,
+}
+
+/// Older spellings kept as aliases of a flag.
+const ALIASES: &[(&str, &str)] = &[("max_iterations", "iterations")];
+
+impl clap::FromArgMatches for LocalizeOptions {
+    fn from_arg_matches(matches: &clap::ArgMatches) -> Result<Self, clap::Error> {
+        let mut o = LocalizeOptions::default();
+        o.update_from_arg_matches(matches)?;
+        Ok(o)
+    }
+    fn update_from_arg_matches(&mut self, matches: &clap::ArgMatches) -> Result<(), clap::Error> {
+        for spec in OPTIONS {
+            if let Some(v) = matches.get_one::<String>(spec.name) {
+                self.given.push((spec.name, v.clone()));
+            }
+        }
+        Ok(())
+    }
+}
+
+impl clap::Args for LocalizeOptions {
+    fn augment_args(cmd: clap::Command) -> clap::Command {
+        let defaults = serde_json::to_value(Options::default()).unwrap_or_default();
+        OPTIONS.iter().fold(cmd, |cmd, spec| {
+            let default = defaults[spec.name].to_string().trim_matches('"').to_string();
+            let range = match spec.kind {
+                OptionKind::Int { min, max } => format!("{min}..={max}"),
+                OptionKind::Float { min, max } => format!("{min}..={max}"),
+                OptionKind::Choice { choices } => choices.join(", "),
+            };
+            let mut arg = clap::Arg::new(spec.name)
+                .long(spec.name.replace('_', "-"))
+                .value_name(spec.name.to_ascii_uppercase())
+                .allow_negative_numbers(true)
+                .help(format!("{} [{range}; default: {default}]", spec.doc));
+            if let OptionKind::Choice { choices } = spec.kind {
+                arg = arg.value_parser(clap::builder::PossibleValuesParser::new(choices.iter().copied()));
+            }
+            for &(name, alias) in ALIASES {
+                if name == spec.name {
+                    arg = arg.visible_alias(alias);
+                }
+            }
+            cmd.arg(arg)
+        })
+    }
+    fn augment_args_for_update(cmd: clap::Command) -> clap::Command {
+        Self::augment_args(cmd)
+    }
 }
 
 impl LocalizeOptions {
-    /// The library options, checked.
+    /// The library options, checked (a bad value is a usage error naming the flag's option).
     pub fn to_options(&self) -> Result<Options, CliError> {
-        let mut o = Options {
-            mode: self.mode.into(),
-            seed: self.seed,
-            ..Options::default()
-        };
-        if let Some(k) = self.k {
-            if k == 0 {
-                return Err(CliError::Usage("--k must be at least 1".into()));
-            }
-            o.k = k;
+        self.to_options_from(Options::default())
+    }
+
+    /// The flags given, set on `base` (a command's own defaults), checked.
+    pub fn to_options_from(&self, base: Options) -> Result<Options, CliError> {
+        let mut o = base;
+        for (name, text) in &self.given {
+            o.set_str(name, text).map_err(|e| CliError::Usage(format!("--{}: {}", name.replace('_', "-"), core_message(&e))))?;
         }
-        for (name, v, field) in [
-            ("--centers", self.centers, &mut o.centers),
-            ("--iterations", self.iterations, &mut o.max_iterations),
-        ] {
-            if let Some(v) = v {
-                if v == 0 {
-                    return Err(CliError::Usage(format!("{name} must be at least 1")));
-                }
-                *field = v;
-            }
-        }
-        if let Some(r) = self.resolution {
-            o.resolution = r;
-        }
-        if let Some(n) = self.spectral_cuts {
-            o.spectral_cuts = n;
-        }
-        if let Some(n) = self.plane_cuts {
-            o.plane_cuts = n;
-        }
-        if let Some(f) = self.finalists {
-            o.finalists = f;
-        }
-        if let Some(e) = self.extra_iterations {
-            o.extra_iterations = e;
-        }
-        if let Some(h) = self.hessian {
-            o.hessian = h.into();
-        }
-        if let Some(s) = self.starts {
-            o.start_shape = s;
-        }
-        if let Some(s) = self.selection {
-            o.selection = s;
-        }
-        if let Some(a) = self.alpha {
-            if !a.is_finite() {
-                return Err(CliError::Usage(format!("--alpha must be finite, got {a}")));
-            }
-            o.alpha = a;
-        }
+        o.validate().map_err(|e| CliError::Usage(core_message(&e)))?;
         Ok(o)
+    }
+}
+
+/// The message of a core error without its "invalid argument: " prefix.
+fn core_message(e: &dualspectra::Error) -> String {
+    match e {
+        dualspectra::Error::InvalidArgument(m) => m.clone(),
+        other => other.to_string(),
     }
 }
 
@@ -220,16 +132,12 @@ pub struct Output<'a> {
     pub region: Vec<usize>,
     pub cost: f64,
     pub seconds: f64,
-    pub mode: Mode,
-    pub k: usize,
-    pub alpha: f64,
-    pub seed: u64,
+    /// Every option the localizer ran with.
+    pub options: &'a Options,
     pub n_vertices_full: usize,
     pub n_vertices_partial: usize,
     pub n_starts: usize,
     pub selected_start: usize,
-    /// The rule that chose `selected_start`.
-    pub selection: Selection,
     pub timings: &'a Timings,
     pub eigenvalues_regular: &'a [f64],
     pub eigenvalues_si: &'a [f64],
@@ -241,7 +149,7 @@ pub struct Output<'a> {
 impl<'a> Output<'a> {
     pub fn new(
         loc: &'a Localization,
-        options: &Options,
+        options: &'a Options,
         seconds: f64,
         full: &TriMesh,
         partial: &TriMesh,
@@ -250,15 +158,11 @@ impl<'a> Output<'a> {
             region: region_indices(&loc.region),
             cost: loc.cost,
             seconds,
-            mode: options.mode,
-            k: options.k,
-            alpha: options.alpha,
-            seed: options.seed,
+            options,
             n_vertices_full: full.n_vertices(),
             n_vertices_partial: partial.n_vertices(),
             n_starts: loc.n_starts,
             selected_start: loc.selected_start,
-            selection: options.selection,
             timings: &loc.timings,
             eigenvalues_regular: &loc.eigenvalues_regular,
             eigenvalues_si: &loc.eigenvalues_si,
@@ -317,7 +221,8 @@ pub fn localize_with_bar(
 ) -> Result<(Localization, f64), CliError> {
     let (bar, progress) = progress_bar(quiet, prefix);
     let t = Instant::now();
-    let result = dualspectra::localize(full, partial, options, &progress);
+    let result = Localizer::with_progress(full, options, &progress.sub(0.0, 0.05))
+        .and_then(|localizer| localizer.locate(partial, &progress.sub(0.05, 1.0)));
     bar.finish_and_clear();
     Ok((result?, t.elapsed().as_secs_f64()))
 }
@@ -332,12 +237,30 @@ pub fn write_region_ply(path: &Path, mesh: &TriMesh, region: &[bool]) -> Result<
     })
 }
 
+/// What reading repaired in a file, as a warning (`None` if nothing).
+pub fn repair_warning(what: &str, report: &dualspectra::mesh::io::ReadReport) -> Option<String> {
+    let dropped = report.file_vertices - report.kept_vertices.len();
+    (dropped > 0 || report.duplicate_faces_removed > 0).then(|| {
+        format!(
+            "{what}: reading removed {} repeated triangle(s) and dropped {dropped} vertex(es); indices refer to the file's vertices",
+            report.duplicate_faces_removed
+        )
+    })
+}
+
 pub fn run(args: Args) -> Result<(), CliError> {
     let options = args.options.to_options()?;
-    let (full, _) = read_input_mesh(&args.full, args.drop_isolated)?;
-    let (partial, _) = read_input_mesh(&args.partial, args.drop_isolated)?;
-    let (loc, seconds) = localize_with_bar(&full, &partial, &options, args.quiet, "localize")?;
-    let out = Output::new(&loc, &options, seconds, &full, &partial);
+    let (full, full_report) = read_input_mesh(&args.full, args.drop_isolated)?;
+    let (partial, partial_report) = read_input_mesh(&args.partial, args.drop_isolated)?;
+    let (mut loc, seconds) = localize_with_bar(&full, &partial, &options, args.quiet, "localize")?;
+    let repairs: Vec<String> =
+        [repair_warning("FULL", &full_report), repair_warning("PARTIAL", &partial_report)].into_iter().flatten().collect();
+    loc.warnings.splice(0..0, repairs);
+    let mut out = Output::new(&loc, &options, seconds, &full, &partial);
+    // Indices of the file's vertices (reading may have dropped some).
+    out.region = out.region.iter().map(|&i| full_report.kept_vertices[i] as usize).collect();
+    out.n_vertices_full = full_report.file_vertices;
+    out.n_vertices_partial = partial_report.file_vertices;
     let text = to_json_line(&out)?;
     if let Some(path) = &args.ply {
         write_region_ply(path, &full, &loc.region)?;
@@ -351,7 +274,7 @@ pub fn run(args: Args) -> Result<(), CliError> {
             println!(
                 "region: {} of {} vertices, cost {:.6e}, {:.2} s ({} starts)",
                 out.region.len(),
-                full.n_vertices(),
+                full_report.file_vertices,
                 loc.cost,
                 seconds,
                 loc.n_starts

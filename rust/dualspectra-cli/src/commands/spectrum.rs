@@ -3,7 +3,7 @@
 //! The `k` smallest eigenvalues $\mu$ of $W\phi = \mu M\phi$ (cotangent stiffness $W$,
 //! lumped mass $M = A$ for `regular`, $M = \mathrm{diag}(s)A$ with
 //! $s = (\epsilon + K_{smooth}^2)^{\alpha/2}$ for `si`), homogeneous Dirichlet conditions
-//! on the boundary vertices if the mesh has a boundary (ALGORITHM.md, "Spectra"). Computed
+//! on the boundary vertices if the mesh has a boundary (docs/algorithm.md, "Spectra"). Computed
 //! by `dualspectra::shape::Shape::dirichlet_spectrum` on the mesh as given (no rescaling;
 //! $\epsilon = 10^{-8}$ in the mesh's units). Prints `{"eigenvalues": [...]}` (ascending)
 //! and also writes it to `OUT` with `--json`.

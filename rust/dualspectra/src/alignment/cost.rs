@@ -1,4 +1,4 @@
-//! The dual-spectra alignment cost and its gradient (ALGORITHM.md "Cost and gradient").
+//! The dual-spectra alignment cost and its gradient (docs/algorithm.md, "Cost and gradient").
 //!
 //! With the relaxation $v = c\,(\tanh w + 1)$ (one shared $w$, a step height $c$ per
 //! spectrum), for each matched spectrum $t$ (regular and/or scale-invariant):
@@ -9,7 +9,7 @@
 //! $$\nabla_w f = \sum_t 2\, c_t (1 - \tanh^2 w) \odot M_t (\Phi_t^{\circ 2}) \frac{\lambda^t - \mu^t}{(\mu^t)^2}.$$
 //! The full shape's own boundary (if any) carries Dirichlet conditions; `w` there has no effect.
 //!
-//! Model Hessian ([`HessianModel::GaussNewton`]): with the residuals
+//! Model Hessian: with the residuals
 //! $r_i = (\lambda_i - \mu_i)/\mu_i$ and $J = \partial r / \partial w$,
 //! $J_{ij} = m_j \phi_{ij}^2\, c (1 - \tanh^2 w_j) / \mu_i$,
 //! $$\nabla^2 f \approx 2 J^\top J + 2\,\mathrm{diag}\Big(\sum_i \frac{r_i}{\mu_i} m_j \phi_{ij}^2\, v''(w_j)\Big),
@@ -17,34 +17,16 @@
 //! the exact Hessian but for the eigenvalues' own second derivatives
 //! $r_i \nabla^2_v \lambda_i$ (which need every eigenpair; small where the fit is good):
 //! the Gauss-Newton model of nonlinear least squares (Nocedal & Wright 2006, 10.3) plus the
-//! exactly known curvature of the relaxation. Free: no eigensolve beyond the gradient's.
+//! exactly known curvature of the relaxation. Free: no eigensolve beyond the gradient's, so
+//! one evaluation per trust-region iteration (finite differences of the gradient, Manopt's
+//! default, cost ~4 and were measured worse: docs/benchmarks/options.md).
 
 use crate::error::{Error, Result};
 use crate::operators::Dirichlet;
 use crate::shape::{Metric, Shape};
 use crate::spectra::{EigenParams, HamiltonianSolver, Spectrum};
-use serde::{Deserialize, Serialize};
 
-/// How the trust region's model Hessian is applied.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum HessianModel {
-    /// Finite differences of the gradient, as Manopt without a Hessian: one more
-    /// evaluation (two eigensolves) per inner conjugate-gradient step. Noisy here: a warm
-    /// solve stops at a relative residual of 1e-4, so its eigenvectors (and the gradient)
-    /// are accurate to ~1e-3, and after a step of $2^{-14}$ the old block often already
-    /// passes. On the test shape of `tests/alignment.rs`, $\eta^\top H \eta$ from warm
-    /// differences read 14.7 against an exact -29.0 (cold differences: -28.96).
-    FiniteDifference,
-    /// The Gauss-Newton model plus the relaxation's curvature (module doc), built from the
-    /// eigenpairs the gradient already needs: one evaluation per trust-region iteration.
-    /// The default: on all 80 SHREC'16 pairs (50 iterations, 16 starts) IoU 0.617 against
-    /// 0.535 (symmetry-aware 0.651 against 0.610) at a median 12.9 s per pair against 21.5 s.
-    #[default]
-    GaussNewton,
-}
-
-/// The [`HessianModel::GaussNewton`] model at one `w`, over all vertices of the shape
+/// The Gauss-Newton model Hessian (module doc) at one `w`, over all vertices of the shape
 /// (zero rows and columns at the shape's own boundary).
 #[derive(Debug, Clone)]
 pub struct GaussNewtonHessian {
@@ -89,8 +71,8 @@ pub struct Evaluation {
     pub gradient: Vec<f64>,
     /// One spectrum per term (eigenvectors over the free vertices).
     pub spectra: Vec<Spectrum>,
-    /// The model Hessian at `w`, when the cost was built with [`HessianModel::GaussNewton`].
-    pub hessian: Option<GaussNewtonHessian>,
+    /// The Gauss-Newton model Hessian at `w`.
+    pub hessian: GaussNewtonHessian,
 }
 
 /// $v = c(\tanh w + 1)$ elementwise.
@@ -105,7 +87,6 @@ pub struct AlignmentCost<'a> {
     terms: Vec<SpectrumTerm>,
     solvers: Vec<HamiltonianSolver>,
     masses: Vec<Vec<f64>>,
-    hessian_model: HessianModel,
     /// Number of evaluations so far.
     pub evaluations: usize,
 }
@@ -125,16 +106,10 @@ impl<'a> AlignmentCost<'a> {
             let mass = dir.restrict(shape.metric_mass(t.metric));
             // The optimiser needs eigenvalues to ~1e-8, not machine precision.
             let params = EigenParams { k: t.target.len(), tol: 1e-8, ..EigenParams::default() };
-            solvers.push(HamiltonianSolver::new(shape.dirichlet_stiffness(), &mass, params)?);
+            solvers.push(HamiltonianSolver::with_symbolic(shape.dirichlet_symbolic()?, &mass, params)?);
             masses.push(mass);
         }
-        Ok(AlignmentCost { shape, terms, solvers, masses, hessian_model: HessianModel::default(), evaluations: 0 })
-    }
-
-    /// The same cost, its evaluations carrying the given model Hessian.
-    pub fn with_hessian_model(mut self, model: HessianModel) -> Self {
-        self.hessian_model = model;
-        self
+        Ok(AlignmentCost { shape, terms, solvers, masses, evaluations: 0 })
     }
 
     pub fn n(&self) -> usize {
@@ -161,9 +136,8 @@ impl<'a> AlignmentCost<'a> {
         let w_free = dir.restrict(w);
         let tanh: Vec<f64> = w_free.iter().map(|x| x.tanh()).collect();
         let dtanh: Vec<f64> = tanh.iter().map(|t| 1.0 - t * t).collect();
-        let gauss_newton = self.hessian_model == HessianModel::GaussNewton;
-        let mut jacobian = Vec::new();
-        let mut diagonal = vec![0.0; if gauss_newton { w_free.len() } else { 0 }];
+        let mut jacobian = Vec::with_capacity(self.terms.iter().map(|t| t.target.len()).sum());
+        let mut diagonal = vec![0.0; w_free.len()];
         let mut grad_free = vec![0.0; w_free.len()];
         let mut cost = 0.0;
         let mut spectra = Vec::with_capacity(self.terms.len());
@@ -183,21 +157,19 @@ impl<'a> AlignmentCost<'a> {
                     let p = col[j];
                     grad_free[j] += coef * mass[j] * p * p * term.height * dtanh[j];
                 }
-                if gauss_newton {
-                    // J_ij = m_j phi_ij^2 c s_j / mu_i; D_j += 2 (r_i / mu_i) m_j phi_ij^2 v''_j.
-                    let row = (0..w_free.len())
-                        .map(|j| mass[j] * col[j] * col[j] * term.height * dtanh[j] / mu)
-                        .collect();
-                    jacobian.push(row);
-                    for j in 0..w_free.len() {
-                        let v2 = -2.0 * term.height * tanh[j] * dtanh[j];
-                        diagonal[j] += 2.0 * r / mu * mass[j] * col[j] * col[j] * v2;
-                    }
+                // J_ij = m_j phi_ij^2 c s_j / mu_i; D_j += 2 (r_i / mu_i) m_j phi_ij^2 v''_j.
+                let row = (0..w_free.len())
+                    .map(|j| mass[j] * col[j] * col[j] * term.height * dtanh[j] / mu)
+                    .collect();
+                jacobian.push(row);
+                for j in 0..w_free.len() {
+                    let v2 = -2.0 * term.height * tanh[j] * dtanh[j];
+                    diagonal[j] += 2.0 * r / mu * mass[j] * col[j] * col[j] * v2;
                 }
             }
             spectra.push(spec.clone());
         }
-        let hessian = gauss_newton.then(|| GaussNewtonHessian { n, free: dir.free.clone(), jacobian, diagonal });
+        let hessian = GaussNewtonHessian { n, free: dir.free.clone(), jacobian, diagonal };
         Ok(Evaluation { cost, gradient: dir.extend(&grad_free, 0.0), spectra, hessian })
     }
 }

@@ -1,9 +1,6 @@
-//! Alignment: the dual-spectra cost and gradient, the trust-region optimiser, the starts
-//! and the choice among them (ALGORITHM.md "Cost and gradient" .. "Choosing among the starts").
+//! Alignment: the dual-spectra cost and its gradient, the trust-region optimiser and the
+//! starting potentials (docs/algorithm.md, "Cost and gradient", "Optimisation", "Starts").
 
 pub mod cost;
-pub mod trust_region;
 pub mod starts;
-pub mod selection;
-pub mod shot;
-pub mod descriptor_start;
+pub mod trust_region;

@@ -1,6 +1,6 @@
-//! Initial relaxed potentials $w_0$ (ALGORITHM.md "Optimisation"):
-//! Gaussians at farthest-point samples of the full shape, both signs and two widths, and
-//! the descriptor baseline $w_0 = 2 - 4 R_0$.
+//! Initial relaxed potentials $w_0$ (docs/algorithm.md, "Starts"): around farthest-point
+//! samples of the full shape, area-matched balls and a wide Gaussian bump; the sides of planes
+//! normal to the principal axes; and given regions $w_0 = 2 - 4 R_0$.
 //!
 //! With $g(x) = 1 - \exp(-|x - c|^2 / (2\sigma^2))$: $w_0 = g - 1/2$ opens a well (low
 //! potential, the candidate region) around $c$; $w_0 = 1/2 - g$ opens everything but $c$.
@@ -17,8 +17,7 @@ pub const START_AMPLITUDE: f64 = 4.0;
 pub struct Start {
     pub w0: Vec<f64>,
     pub label: String,
-    /// Kind of start ("well", "bump", "mask"): starts of one kind begin at comparable costs,
-    /// so the successive halving ranks each kind separately.
+    /// Kind of start ("well", "bump", "mask").
     pub family: &'static str,
 }
 
@@ -55,20 +54,9 @@ pub fn farthest_point_samples(points: &[[f64; 3]], count: usize, seed: u64) -> V
     chosen
 }
 
-/// Gaussian starts: for each centre and width, `w0 = a(g - 1/2)` ("well") and `w0 = a(1/2 - g)`
-/// ("bump"), labelled `well@{c}/sigma{i}`, `i` the width's index in `sigmas`.
-pub fn gaussian_starts(points: &[[f64; 3]], centres: &[usize], sigmas: &[f64]) -> Vec<Start> {
-    let mut out = Vec::with_capacity(centres.len() * sigmas.len() * 2);
-    for &c in centres {
-        for (si, &sigma) in sigmas.iter().enumerate() {
-            out.extend(gaussian_pair(points, c, sigma, si));
-        }
-    }
-    out
-}
-
-/// The well and the bump of one Gaussian of width `sigma` around centre `c` (see
-/// [`gaussian_starts`]), labelled with the width index `width_index`.
+/// The well $w_0 = a(g - 1/2)$ and the bump $w_0 = a(1/2 - g)$ of one Gaussian
+/// $g(x) = 1 - \exp(-|x - c|^2 / (2\sigma^2))$ of width `sigma` around centre `c`, labelled
+/// `well@{c}/sigma{width_index}` and `bump@{c}/sigma{width_index}`.
 pub fn gaussian_pair(points: &[[f64; 3]], c: usize, sigma: f64, width_index: usize) -> [Start; 2] {
     let g: Vec<f64> = points.iter().map(|&p| 1.0 - (-dist2(p, points[c]) / (2.0 * sigma * sigma)).exp()).collect();
     let a = START_AMPLITUDE;
@@ -93,17 +81,12 @@ pub const BALL_AMPLITUDE: f64 = 2.0;
 /// grow as $4\pi i / \text{area}$, so a start with the partial's area begins near the target
 /// spectrum's scale, where a Gaussian's 0.5-level set encloses ~4.4x (and, at $2\sigma$, ~17x)
 /// the partial's area on a flat patch.
-pub fn area_ball_starts(
-    mesh: &crate::mesh::TriMesh,
-    mass: &[f64],
-    centres: &[usize],
-    area: f64,
-) -> Vec<Start> {
-    let neighbors = crate::mesh::topology::vertex_neighbors(mesh);
+///
+/// `distances[i]`: the edge-graph distances from `centres[i]` ([`centre_distances`]).
+pub fn area_ball_starts(distances: &[Vec<f64>], mass: &[f64], centres: &[usize], area: f64) -> Vec<Start> {
     let total: f64 = mass.iter().sum();
     let mut out = Vec::with_capacity(2 * centres.len());
-    for &c in centres {
-        let d = crate::mesh::topology::edge_graph_distances(mesh, &neighbors, c);
+    for (&c, d) in centres.iter().zip(distances) {
         let mut order: Vec<usize> = (0..d.len()).collect();
         order.sort_by(|&i, &j| d[i].total_cmp(&d[j]).then(i.cmp(&j)));
         // Radius at which the ball around c reaches area `a` (the farthest reachable vertex's
@@ -134,35 +117,11 @@ pub fn area_ball_starts(
     out
 }
 
-/// Spectral-cut starts: for each of the first `count` non-constant eigenfunctions $\phi_j$ of
-/// the shape's Laplace-Beltrami operator ($W\phi = \lambda A \phi$, Dirichlet on the shape's
-/// own boundary if it has one; the first eigenfunction, constant or nearly so, is skipped), a
-/// well on each side of a level set of $\phi_j$: $R_j^\pm$ holds the vertices of largest
-/// $\pm\phi_j$ up to the partial's `area`, and $w_0 = 2 - 4 R_j^\pm$ (labels `cut{j}+`,
-/// `cut{j}-`). The low eigenfunctions split a shape along its natural axes (head to tail, left
-/// to right, ...) intrinsically, so in any pose: a partial cut off by one cut across such an
-/// axis, e.g. the left half of a body, which no ball around an extremity approximates, is
-/// the region on one side. Fewer starts if the shape has too few free vertices.
-pub fn spectral_cut_starts(shape: &crate::shape::Shape, area: f64, count: usize) -> crate::error::Result<Vec<Start>> {
-    let dir = shape.dirichlet();
-    let k = (count + 1).min(dir.n_free().saturating_sub(1));
-    if count == 0 || k < 2 {
-        return Ok(Vec::new());
-    }
-    let spectrum = shape.dirichlet_spectrum(crate::shape::Metric::Regular, k)?;
-    let mut out = Vec::with_capacity(2 * (k - 1));
-    for j in 1..k {
-        let column: Vec<f64> = (0..spectrum.vectors.nrows()).map(|i| spectrum.vectors[(i, j)]).collect();
-        let phi = dir.extend(&column, 0.0);
-        for (sign, side) in [(1.0, '+'), (-1.0, '-')] {
-            let field: Vec<f64> = phi.iter().map(|x| sign * x).collect();
-            let region = crate::region::energy::area_matched_region(&field, shape.mass(), area);
-            let mut start = mask_start(&region, &format!("cut{j}{side}"));
-            start.family = "well";
-            out.push(start);
-        }
-    }
-    Ok(out)
+/// Edge-graph distances from each centre to every vertex of `mesh` (infinite where
+/// unreachable): what [`area_ball_starts`] needs of the mesh, computed once per full shape.
+pub fn centre_distances(mesh: &crate::mesh::TriMesh, centres: &[usize]) -> Vec<Vec<f64>> {
+    let neighbors = crate::mesh::topology::vertex_neighbors(mesh);
+    centres.iter().map(|&c| crate::mesh::topology::edge_graph_distances(mesh, &neighbors, c)).collect()
 }
 
 /// Most plane-cut directions (see [`plane_cut_directions`]).
@@ -189,7 +148,7 @@ pub fn plane_cut_directions(points: &[[f64; 3]], mass: &[f64], count: usize) -> 
             }
         }
     }
-    let (_, axes) = crate::alignment::shot::sym_eigen3(cov);
+    let (_, axes) = crate::geometry::shot::sym_eigen3(cov);
     let mut frame: Vec<[f64; 3]> = Vec::with_capacity(MAX_PLANE_CUTS);
     for e in &axes {
         frame.push(*e);
@@ -227,12 +186,25 @@ pub fn plane_cut_directions(points: &[[f64; 3]], mass: &[f64], count: usize) -> 
 /// by one roughly planar cut through the body (a half, the front of a torso), which no ball
 /// around an extremity approximates, is one side of such a plane.
 pub fn plane_cut_starts(points: &[[f64; 3]], mass: &[f64], area: f64, count: usize) -> Vec<Start> {
+    plane_cut_starts_from_heights(&plane_heights(points, mass, count), mass, area)
+}
+
+/// $\langle x_i, d \rangle$ for each of the first `count` directions $d$ of
+/// [`plane_cut_directions`]: what [`plane_cut_starts`] needs of the shape, computed once.
+pub fn plane_heights(points: &[[f64; 3]], mass: &[f64], count: usize) -> Vec<Vec<f64>> {
     plane_cut_directions(points, mass, count)
         .iter()
+        .map(|d| points.iter().map(|&p| crate::geometry::angles::dot(p, *d)).collect())
+        .collect()
+}
+
+/// [`plane_cut_starts`] from the [`plane_heights`].
+pub fn plane_cut_starts_from_heights(heights: &[Vec<f64>], mass: &[f64], area: f64) -> Vec<Start> {
+    heights
+        .iter()
         .enumerate()
-        .map(|(j, d)| {
-            let height: Vec<f64> = points.iter().map(|&p| crate::geometry::angles::dot(p, *d)).collect();
-            let region = crate::region::energy::area_matched_region(&height, mass, area);
+        .map(|(j, height)| {
+            let region = crate::geometry::area_matched_set(height, mass, area);
             let mut start = mask_start(&region, &format!("plane{j}"));
             start.family = "well";
             start
@@ -240,7 +212,7 @@ pub fn plane_cut_starts(points: &[[f64; 3]], mass: &[f64], area: f64, count: usi
         .collect()
 }
 
-/// The descriptor baseline start: $w_0 = 2 - 4 R_0$ (low potential on the mask).
+/// A start from a guess of the region: $w_0 = 2 - 4 R_0$ (low potential on the mask).
 pub fn mask_start(mask: &[bool], label: &str) -> Start {
     Start { w0: mask.iter().map(|&m| if m { -2.0 } else { 2.0 }).collect(), label: label.to_string(), family: "mask" }
 }
@@ -272,43 +244,6 @@ mod tests {
         w0.iter().zip(mass).filter(|(w, _)| **w < 0.0).map(|(_, m)| m).sum()
     }
 
-    #[test]
-    fn spectral_cuts_split_an_elongated_shape_across_its_long_axis() {
-        // An ellipsoid 3:1:1 along x: the first non-constant eigenfunction is odd in x, so
-        // its two cuts of 30% of the area are the caps at the two ends.
-        let mesh = crate::mesh::generate::icosphere(3).map_positions(|p| [3.0 * p[0], p[1], p[2]]).unwrap();
-        let shape = crate::shape::Shape::new(mesh);
-        let mass = shape.mass();
-        let total: f64 = mass.iter().sum();
-        let max_mass = mass.iter().cloned().fold(0.0, f64::max);
-        let starts = spectral_cut_starts(&shape, 0.3 * total, 3).unwrap();
-        assert_eq!(starts.len(), 6);
-        assert_eq!(starts[0].label, "cut1+");
-        assert_eq!(starts[1].label, "cut1-");
-        for s in &starts {
-            // The well holds the partial's area, to one vertex.
-            let a = well_area(&s.w0, mass);
-            assert!(a >= 0.3 * total && a <= 0.3 * total + max_mass, "{}: {a}", s.label);
-            assert!(s.w0.iter().all(|w| w.abs() == BALL_AMPLITUDE));
-        }
-        let v = shape.mesh().vertices();
-        let xs = |s: &Start| -> Vec<f64> { v.iter().zip(&s.w0).filter(|(_, w)| **w < 0.0).map(|(p, _)| p[0]).collect() };
-        let (a, b) = (xs(&starts[0]), xs(&starts[1]));
-        // Each well is one end cap (all x of one sign, beyond 1 of the 3 half-length), the two
-        // at opposite ends.
-        assert!(a.iter().all(|&x| x * a[0] > 0.0 && x.abs() > 1.0), "cut1+ is not one end cap");
-        assert!(b.iter().all(|&x| x * b[0] > 0.0 && x.abs() > 1.0), "cut1- is not one end cap");
-        assert!(a[0] * b[0] < 0.0);
-        // Deterministic; no starts asked, none given; more than the mesh holds, fewer given.
-        let again = spectral_cut_starts(&shape, 0.3 * total, 3).unwrap();
-        assert!(starts.iter().zip(&again).all(|(x, y)| x.w0 == y.w0 && x.label == y.label));
-        assert!(spectral_cut_starts(&shape, 0.3 * total, 0).unwrap().is_empty());
-        let tiny = crate::shape::Shape::new(crate::mesh::generate::icosphere(0));
-        let n = spectral_cut_starts(&tiny, 1.0, 50).unwrap().len();
-        assert!(n > 0 && n < 100, "{n} starts on 12 vertices");
-    }
-
-    /// `p` rotated by `angle` about the unit `axis` (Rodrigues).
     fn rotate(p: [f64; 3], axis: [f64; 3], angle: f64) -> [f64; 3] {
         let (c, s) = (angle.cos(), angle.sin());
         let (kxp, kp) = (cross(axis, p), dot(axis, p));
@@ -413,7 +348,7 @@ mod tests {
         let centres = farthest_point_samples(shape.mesh().vertices(), 3, 1);
         let max_mass = mass.iter().cloned().fold(0.0, f64::max);
         for fraction in [0.1, 0.3, 0.7] {
-            let starts = area_ball_starts(shape.mesh(), mass, &centres, fraction * total);
+            let starts = area_ball_starts(&centre_distances(shape.mesh(), &centres), mass, &centres, fraction * total);
             assert_eq!(starts.len(), 2 * centres.len());
             for s in &starts {
                 // The well holds the partial's area, to within the ring of vertices at radius r

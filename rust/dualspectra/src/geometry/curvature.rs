@@ -2,7 +2,7 @@
 //!
 //! $K_i = (2\pi - \sum_{f \ni i} \theta_{f,i}) / a_i$ at interior vertices and
 //! $K_i = (\pi - \sum_{f \ni i} \theta_{f,i}) / a_i$ on the boundary, with $a_i$ the lumped
-//! (barycentric) area, one third of the incident faces' areas (ALGORITHM.md, "Discrete operators").
+//! (barycentric) area, one third of the incident faces' areas (docs/algorithm.md, "Discrete operators").
 //! On a closed mesh $\sum_i K_i a_i = 2\pi\chi$.
 
 use super::angles::{corner_angles, face_areas};
@@ -28,7 +28,7 @@ pub fn gaussian_curvature(mesh: &TriMesh) -> Vec<f64> {
 }
 
 /// One-ring mean: each value becomes the mean of its neighbours' values (the vertex itself excluded),
-/// as in ALGORITHM.md ("each K_i becomes the mean of K over its one-ring neighbours").
+/// as in docs/algorithm.md ("each K_i becomes the mean of K over its one-ring neighbours").
 pub fn smooth_one_ring(mesh: &TriMesh, values: &[f64]) -> Vec<f64> {
     topology::vertex_neighbors(mesh)
         .iter()

@@ -1,5 +1,5 @@
 //! The scale-invariant metric $\tilde g = s\,g$ with $s_i = (\sqrt{\epsilon + K_i^2})^{\alpha}$
-//! (paper eq. 4 relaxed, ALGORITHM.md "Discrete operators"). $\alpha = 0$ is the regular
+//! (paper eq. 4 relaxed, docs/algorithm.md "Discrete operators"). $\alpha = 0$ is the regular
 //! metric, $\alpha = 1$ the full scale-invariant one.
 //!
 //! Units: $K$ scales as 1/length^2, so $\epsilon$ is in 1/length^4. [`scale_invariant_factor`]

@@ -1,6 +1,6 @@
 //! Quadric edge-collapse decimation of a [`TriMesh`] to a target fraction of its vertices.
 //!
-//! ALGORITHM.md, "Optimisation": the full shape is decimated (quadric edge collapse) to
+//! docs/algorithm.md, "Optimisation": the full shape is decimated (quadric edge collapse) to
 //! 50% of its vertices before the optimisation, and the result is carried back to the
 //! full mesh by nearest neighbours (`mesh::nearest`).
 //!

@@ -4,6 +4,7 @@ pub mod topology;
 pub mod generate;
 pub mod decimate;
 pub mod nearest;
+pub mod intake;
 pub mod io;
 
 use crate::error::MeshError;

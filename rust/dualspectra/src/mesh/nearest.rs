@@ -2,7 +2,7 @@
 //! meshes, and transfer of per-vertex values along such a map.
 //!
 //! Used to carry a mask or a score from the decimated full shape back to the full shape
-//! (ALGORITHM.md, "Optimisation": "transferred back to the full mesh by nearest
+//! (docs/algorithm.md, "Optimisation": "transferred back to the full mesh by nearest
 //! neighbours") and for the fixed-radius searches of the SHOT descriptor.
 //!
 //! The tree is hand-written rather than taken from a crate (e.g. `kiddo`): 3-D only,

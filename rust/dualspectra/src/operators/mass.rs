@@ -1,6 +1,6 @@
 //! Lumped (barycentric) mass $A = \mathrm{diag}(a_i)$, $a_i = \tfrac13 \sum_{f \ni i} |f|$,
 //! and the scale-invariant mass $\tilde A = \mathrm{diag}(s) A$. Matches libigl
-//! `massmatrix(..., MASSMATRIX_TYPE_BARYCENTRIC)`. ALGORITHM.md, "Discrete operators".
+//! `massmatrix(..., MASSMATRIX_TYPE_BARYCENTRIC)`. docs/algorithm.md, "Discrete operators".
 
 use crate::geometry::angles::face_areas;
 use crate::mesh::TriMesh;

@@ -1,7 +1,7 @@
 //! Cotangent stiffness matrix $W$ (positive semi-definite):
 //! $W_{ij} = -\tfrac12(\cot\alpha_{ij} + \cot\beta_{ij})$ for an edge $ij$ with opposite angles
 //! $\alpha_{ij}, \beta_{ij}$ (one on a boundary edge), $W_{ii} = -\sum_{j\ne i} W_{ij}$.
-//! Sign convention: $W = -L$ with $L$ libigl's `cotmatrix`. ALGORITHM.md, "Discrete operators".
+//! Sign convention: $W = -L$ with $L$ libigl's `cotmatrix`. docs/algorithm.md, "Discrete operators".
 
 use super::SparseMatrix;
 use crate::geometry::angles::{cross, dot, norm, sub};

@@ -8,7 +8,7 @@
 //! - closing   `C_r(X) = E_r(D_r(X))`
 //!
 //! Because `d_G` is symmetric, `(E_r, D_r)` is an adjunction, so the closing is
-//! extensive (`X ⊆ C_r(X)`), increasing and idempotent. ALGORITHM.md, "Optimisation":
+//! extensive (`X ⊆ C_r(X)`), increasing and idempotent. docs/algorithm.md, "Optimisation":
 //! the region transferred to the full shape is grown by 4 rings and shrunk by 4 rings.
 //!
 //! Nothing lies beyond the mesh boundary: a boundary vertex is eroded only if some mesh

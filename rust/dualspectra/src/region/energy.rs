@@ -21,18 +21,8 @@ pub fn threshold_region(energy: &[f64], partial_area: f64, fraction: f64) -> Vec
     energy.iter().map(|&e| e > t).collect()
 }
 
-/// The highest-energy vertices until their mass reaches `target_area` (ties broken by index).
+/// The highest-energy vertices until their mass reaches `target_area` (ties broken by index);
+/// see [`crate::geometry::area_matched_set`].
 pub fn area_matched_region(energy: &[f64], mass: &[f64], target_area: f64) -> Vec<bool> {
-    let mut order: Vec<usize> = (0..energy.len()).collect();
-    order.sort_by(|&a, &b| energy[b].total_cmp(&energy[a]).then(a.cmp(&b)));
-    let mut mask = vec![false; energy.len()];
-    let mut acc = 0.0;
-    for i in order {
-        if acc >= target_area {
-            break;
-        }
-        mask[i] = true;
-        acc += mass[i];
-    }
-    mask
+    crate::geometry::area_matched_set(energy, mass, target_area)
 }

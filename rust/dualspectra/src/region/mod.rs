@@ -4,5 +4,5 @@ pub mod boundary;
 pub mod closing;
 pub mod energy;
 
-/// Rings of the morphological closing applied on the full shape (ALGORITHM.md: grow 4, shrink 4).
+/// Rings of the morphological closing applied on the full shape (docs/algorithm.md: grow 4, shrink 4).
 pub const CLOSING_RINGS: usize = 4;

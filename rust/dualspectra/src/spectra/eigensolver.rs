@@ -1,5 +1,5 @@
 //! The $k$ smallest eigenpairs of $H\phi = \lambda M\phi$, $H = W + \mathrm{diag}(m \odot v)$,
-//! $M = \mathrm{diag}(m)$ (ALGORITHM.md, "Spectra").
+//! $M = \mathrm{diag}(m)$ (docs/algorithm.md, "Spectra").
 //!
 //! **Shift-invert.** With a shift $\sigma < 0$, $K = H - \sigma M$ is symmetric positive
 //! definite ($W \succeq 0$, $v \ge 0$, $m > 0$), and with $D = M^{1/2}$
@@ -21,7 +21,8 @@
 
 use super::block;
 use super::dense::dense_smallest;
-use super::factor::ShiftedFactor;
+use super::factor::{ShiftedFactor, ShiftedPattern};
+use std::sync::Arc;
 use super::spectrum::{EigenInfo, EigenParams, Spectrum};
 use crate::error::{Error, Result};
 use crate::operators::SparseMatrix;
@@ -78,11 +79,37 @@ pub struct HamiltonianSolver {
     unchecked_solves: usize,
 }
 
+/// The symbolic Cholesky analysis of $W + \mathrm{diag}(d)$ for one stiffness $W$: checked
+/// once (square, finite, symmetric), analysed once (fill-reducing ordering, elimination tree,
+/// supernodes), then shared by every [`HamiltonianSolver`] of that $W$ (every start, both
+/// metrics, the selection's solves), which factorise numerically only. Cheap to clone
+/// (reference counted); `Send + Sync`. faer's `SymbolicLlt` / `Llt::try_new_with_symbolic`
+/// pattern.
+#[derive(Debug, Clone)]
+pub struct SymbolicHamiltonian(Arc<ShiftedPattern>);
+
+impl SymbolicHamiltonian {
+    /// Check and analyse `w`.
+    pub fn new(w: &SparseMatrix) -> Result<Self> {
+        Ok(SymbolicHamiltonian(Arc::new(ShiftedPattern::new(w)?)))
+    }
+
+    /// Rows (and columns) of the analysed `W`.
+    pub fn n(&self) -> usize {
+        self.0.n()
+    }
+}
+
 impl HamiltonianSolver {
     /// Check `(w, mass, params)` and analyse the sparsity of `w`. See [`generalized_eigen`]
     /// for the conditions.
     pub fn new(w: &SparseMatrix, mass: &[f64], params: EigenParams) -> Result<Self> {
-        let n = w.nrows();
+        Self::with_symbolic(&SymbolicHamiltonian::new(w)?, mass, params)
+    }
+
+    /// As [`HamiltonianSolver::new`], on an analysed `W` (no symbolic work).
+    pub fn with_symbolic(symbolic: &SymbolicHamiltonian, mass: &[f64], params: EigenParams) -> Result<Self> {
+        let n = symbolic.n();
         if mass.len() != n {
             return Err(Error::InvalidArgument(format!(
                 "mass has {} entries, W is {n} x {n}",
@@ -125,7 +152,7 @@ impl HamiltonianSolver {
                 "the total mass is not finite and positive".into(),
             ));
         }
-        let factor = ShiftedFactor::new(w)?;
+        let factor = ShiftedFactor::with_pattern(symbolic.0.clone());
         Ok(HamiltonianSolver {
             inv_sqrt_m: mass.iter().map(|m| 1.0 / m.sqrt()).collect(),
             mass: mass.to_vec(),

@@ -4,7 +4,7 @@
 //! supernodal Cholesky with an AMD fill-reducing ordering). The sparsity pattern of $K$ is the
 //! lower triangle of $W$ plus the full diagonal, fixed for the lifetime of the factor, so the
 //! symbolic analysis (ordering, elimination tree, supernodes) runs once and every new diagonal
-//! $d$ (a new potential, ALGORITHM.md "Hamiltonian") costs one numeric factorisation only.
+//! $d$ (a new potential, docs/algorithm.md "Hamiltonian") costs one numeric factorisation only.
 //!
 //! Everything runs sequentially (`Par::Seq`): results are bitwise reproducible and the
 //! optimiser above may parallelise over shapes instead.
@@ -18,25 +18,46 @@ use faer::sparse::linalg::cholesky::{
 };
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::{Conj, MatMut, Par, Side};
+use std::sync::Arc;
 
-/// Lower triangle of a symmetric sparse matrix with a full diagonal, plus its symbolic and
-/// numeric Cholesky factors. `n x n`.
+/// The pattern of `tril(W) + I`, the values of `W` on it and its symbolic Cholesky analysis
+/// (ordering, elimination tree, supernodes): everything that depends on `W` alone. Immutable,
+/// shared (through an `Arc`) by every factor of `W + diag(d)`.
 #[derive(Debug)]
-pub(crate) struct ShiftedFactor {
+pub(crate) struct ShiftedPattern {
     n: usize,
     /// Pattern of `tril(W) + I` (sorted rows, diagonal first in every column).
     pattern: SymbolicSparseColMat<usize>,
     /// Values of `tril(W)` on `pattern` (0 on a diagonal absent from `W`).
     w_values: Vec<f64>,
-    /// Scratch values of `K` on `pattern`.
-    k_values: Vec<f64>,
     /// `diag_pos[j]`: position of `(j, j)` in the value arrays.
     diag_pos: Vec<usize>,
     symbolic: SymbolicCholesky<usize>,
+}
+
+/// The numeric Cholesky factor of $K = W + \mathrm{diag}(d)$ on a shared [`ShiftedPattern`].
+#[derive(Debug)]
+pub(crate) struct ShiftedFactor {
+    shared: Arc<ShiftedPattern>,
+    /// Scratch values of `K` on the pattern.
+    k_values: Vec<f64>,
     l_values: Vec<f64>,
 }
 
 impl ShiftedFactor {
+    /// A factor (not yet computed) on an analysed pattern.
+    pub(crate) fn with_pattern(shared: Arc<ShiftedPattern>) -> Self {
+        ShiftedFactor { k_values: shared.w_values.clone(), l_values: vec![0.0; shared.symbolic.len_val()], shared }
+    }
+
+}
+
+impl ShiftedPattern {
+    /// Number of rows and columns of `W`.
+    pub(crate) fn n(&self) -> usize {
+        self.n
+    }
+
     /// Check `W` (square, finite, symmetric) and run the symbolic analysis.
     pub(crate) fn new(w: &SparseMatrix) -> Result<Self> {
         let n = w.nrows();
@@ -116,21 +137,19 @@ impl ShiftedFactor {
         let symbolic =
             factorize_symbolic_cholesky(pattern.as_ref(), Side::Lower, Default::default(), Default::default())
                 .map_err(|e| Error::Numerical(format!("symbolic Cholesky analysis failed: {e:?}")))?;
-        let k_values = w_values.clone();
-        let l_values = vec![0.0; symbolic.len_val()];
-        Ok(ShiftedFactor {
-            n,
-            pattern,
-            w_values,
-            k_values,
-            diag_pos,
-            symbolic,
-            l_values,
-        })
+        Ok(ShiftedPattern { n, pattern, w_values, diag_pos, symbolic })
+    }
+}
+
+impl ShiftedFactor {
+    /// Check `W` (square, finite, symmetric), analyse it and make a factor on it.
+    #[allow(dead_code)]
+    pub(crate) fn new(w: &SparseMatrix) -> Result<Self> {
+        Ok(Self::with_pattern(Arc::new(ShiftedPattern::new(w)?)))
     }
 
     pub(crate) fn n(&self) -> usize {
-        self.n
+        self.shared.n
     }
 
     /// Number of stored entries of the factor `L` (a measure of the solve cost).
@@ -141,17 +160,18 @@ impl ShiftedFactor {
 
     /// Numeric factorisation of $K = W + \mathrm{diag}(d)$.
     pub(crate) fn factorize(&mut self, d: &[f64]) -> Result<()> {
-        debug_assert_eq!(d.len(), self.n);
-        self.k_values.copy_from_slice(&self.w_values);
+        debug_assert_eq!(d.len(), self.shared.n);
+        self.k_values.copy_from_slice(&self.shared.w_values);
         for (j, &dj) in d.iter().enumerate() {
-            self.k_values[self.diag_pos[j]] += dj;
+            self.k_values[self.shared.diag_pos[j]] += dj;
         }
-        let k = SparseColMatRef::new(self.pattern.as_ref(), &self.k_values);
+        let k = SparseColMatRef::new(self.shared.pattern.as_ref(), &self.k_values);
         let req = self
+            .shared
             .symbolic
             .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default());
         let mut mem = MemBuffer::try_new(req).map_err(|_| Error::Numerical("out of memory".into()))?;
-        self.symbolic
+        self.shared.symbolic
             .factorize_numeric_llt::<f64>(
                 &mut self.l_values,
                 k,
@@ -167,20 +187,20 @@ impl ShiftedFactor {
 
     /// Workspace for [`Self::solve_in_place`] with `ncols` right-hand sides.
     pub(crate) fn solve_scratch(&self, ncols: usize) -> StackReq {
-        self.symbolic.solve_in_place_scratch::<f64>(ncols, Par::Seq)
+        self.shared.symbolic.solve_in_place_scratch::<f64>(ncols, Par::Seq)
     }
 
     /// `rhs <- K^{-1} rhs`. Requires a successful [`Self::factorize`].
     pub(crate) fn solve_in_place(&self, rhs: MatMut<'_, f64>, stack: &mut MemStack) {
-        LltRef::new(&self.symbolic, &self.l_values).solve_in_place_with_conj(Conj::No, rhs, Par::Seq, stack);
+        LltRef::new(&self.shared.symbolic, &self.l_values).solve_in_place_with_conj(Conj::No, rhs, Par::Seq, stack);
     }
 
     /// `out = W x` for a dense block `x` (uses the stored lower triangle, symmetric product).
     pub(crate) fn w_mul(&self, mut out: MatMut<'_, f64>, x: faer::MatRef<'_, f64>) {
-        let col_ptr = self.pattern.col_ptr();
-        let row_idx = self.pattern.row_idx();
-        let mut xbuf = vec![0.0; self.n];
-        let mut obuf = vec![0.0; self.n];
+        let col_ptr = self.shared.pattern.col_ptr();
+        let row_idx = self.shared.pattern.row_idx();
+        let mut xbuf = vec![0.0; self.shared.n];
+        let mut obuf = vec![0.0; self.shared.n];
         for c in 0..x.ncols() {
             // Contiguous copies: the loop below indexes slices (bounds checks hoisted) instead
             // of strided faer columns.
@@ -188,12 +208,12 @@ impl ShiftedFactor {
                 *xi = *v;
             }
             obuf.fill(0.0);
-            for j in 0..self.n {
+            for j in 0..self.shared.n {
                 let xj = xbuf[j];
                 let (s, e) = (col_ptr[j], col_ptr[j + 1]);
                 // Diagonal first.
-                let mut acc = self.w_values[s] * xj;
-                for (&i, &v) in row_idx[s + 1..e].iter().zip(&self.w_values[s + 1..e]) {
+                let mut acc = self.shared.w_values[s] * xj;
+                for (&i, &v) in row_idx[s + 1..e].iter().zip(&self.shared.w_values[s + 1..e]) {
                     obuf[i] += v * xj;
                     acc += v * xbuf[i];
                 }
@@ -209,17 +229,18 @@ impl ShiftedFactor {
     /// the pivots of its $LDL^\top$ factorisation (same symbolic analysis, no pivoting).
     /// `None` if the factorisation broke down (a zero pivot).
     pub(crate) fn count_negative(&self, d: &[f64]) -> Option<usize> {
-        let mut a = self.w_values.clone();
+        let mut a = self.shared.w_values.clone();
         for (j, &dj) in d.iter().enumerate() {
-            a[self.diag_pos[j]] += dj;
+            a[self.shared.diag_pos[j]] += dj;
         }
-        let mat = SparseColMatRef::new(self.pattern.as_ref(), &a);
-        let mut values = vec![0.0; self.symbolic.len_val()];
+        let mat = SparseColMatRef::new(self.shared.pattern.as_ref(), &a);
+        let mut values = vec![0.0; self.shared.symbolic.len_val()];
         let req = self
+            .shared
             .symbolic
             .factorize_numeric_ldlt_scratch::<f64>(Par::Seq, Default::default());
         let mut mem = MemBuffer::try_new(req).ok()?;
-        self.symbolic
+        self.shared.symbolic
             .factorize_numeric_ldlt::<f64>(
                 &mut values,
                 mat,
@@ -240,10 +261,10 @@ impl ShiftedFactor {
             }
             Some(())
         };
-        match self.symbolic.raw() {
+        match self.shared.symbolic.raw() {
             SymbolicCholeskyRaw::Simplicial(sym) => {
                 let col_ptr = sym.col_ptr();
-                for j in 0..self.n {
+                for j in 0..self.shared.n {
                     count(values[col_ptr[j]])?;
                 }
             }

@@ -3,7 +3,7 @@
 //! For $(W + \mathrm{diag}(m \odot v))\phi_i = \lambda_i\, \mathrm{diag}(m)\, \phi_i$ with
 //! $\phi_i^\top \mathrm{diag}(m) \phi_i = 1$ and a simple eigenvalue, Hellmann-Feynman gives
 //! $$\frac{\partial \lambda_i}{\partial v_j} = \phi_i^\top \frac{\partial H}{\partial v_j}\phi_i = m_j\, \phi_{ji}^2 .$$
-//! (ALGORITHM.md, "Gradient of the spectral cost"; for a repeated eigenvalue this is the
+//! (docs/algorithm.md, "Gradient of the spectral cost"; for a repeated eigenvalue this is the
 //! derivative of the eigenvalue branch carried by the returned basis vector.)
 
 use crate::error::{Error, Result};

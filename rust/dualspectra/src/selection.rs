@@ -1,5 +1,12 @@
-//! Choosing among the optimised starts by descriptors projected on eigenfunctions
-//! (ALGORITHM.md "Choosing among the starts"):
+//! Choosing among the optimised starts (docs/algorithm.md, "Choosing among the starts").
+//!
+//! Each candidate region is scored four ways, all lower-is-better: its *region cost* (how
+//! well the region's own step potential reproduces the partial's spectra), its *descriptor
+//! score* (SHOT descriptors projected on eigenfunctions, the paper's rule), its *partial fit*
+//! (every local shape of the partial found in the region) and its *boundary misfit*. The
+//! region cost gates, the other three rank: [`choose`].
+//!
+//! The descriptor score:
 //! $c_N = (\Psi^{\circ 2})^\top A_N D_N$ with $\Psi$ the first $k_d$ Dirichlet eigenfunctions of
 //! the partial, and for a candidate region $R$ on the full shape
 //! $c_M = (\Phi^{\circ 2})^\top A_M D_M$ with $\Phi$ the first $k_d$ eigenfunctions of
@@ -7,9 +14,22 @@
 //! regular and (in the dual method) the scale-invariant metric; the lowest score wins.
 
 use crate::error::Result;
-use crate::localize::{Selection, BOUNDARY_WEIGHT, REGION_COST_GATE};
+use serde::{Deserialize, Serialize};
 use crate::shape::{Metric, Shape};
 use crate::spectra::{EigenParams, HamiltonianSolver};
+
+/// The gate of [`choose`]: a candidate is admitted when its region cost is at most this multiple
+/// of the lowest (2 and 5 were measured worse: docs/benchmarks/options.md).
+pub const REGION_COST_GATE: f64 = 3.0;
+
+/// The gate always admits regions whose eigenvalues match the partial's to this
+/// root-mean-square relative error (region cost <= n * 0.1^2): where several regions fit almost
+/// exactly (a near-symmetric shape), a multiple of the lowest would wrongly exclude good fits.
+pub const REGION_COST_FLOOR_RMS: f64 = 0.1;
+
+/// Weight $\beta$ of the boundary-length misfit in [`choose`]: the ranking is multiplied by
+/// $\exp(\beta\,|\ln(L_R/L_N)|)$ (docs/benchmarks/options.md).
+pub const BOUNDARY_WEIGHT: f64 = 0.5;
 use faer::{Mat, MatRef};
 
 /// Eigenfunctions used by the projection (the reference uses 5).
@@ -107,7 +127,7 @@ pub fn selection_scores(
                 tol: 1e-6,
                 ..EigenParams::default()
             };
-            let mut solver = HamiltonianSolver::new(full.dirichlet_stiffness(), &mass, params)?;
+            let mut solver = HamiltonianSolver::with_symbolic(full.dirichlet_symbolic()?, &mass, params)?;
             let r = &regions[ri];
             let v: Vec<f64> = dir
                 .free
@@ -219,67 +239,51 @@ pub fn boundary_misfit(region_length: f64, partial_length: f64) -> f64 {
     }
 }
 
-/// Exponent $\gamma$ of the partial fit ([`partial_fits`]) in [`Selection::Gated`]'s ranking.
+/// Exponent $\gamma$ of the partial fit ([`partial_fits`]) in [`choose`]'s ranking (1 and 4
+/// were measured worse: docs/benchmarks/options.md).
 pub const PARTIAL_FIT_EXPONENT: f64 = 2.0;
 
-/// Per-candidate scores the rules of [`choose`] rank by, one entry per candidate (lower is
-/// better for all; NaN where not computed).
-#[derive(Debug, Clone, Copy)]
-pub struct CandidateScores<'a> {
-    /// Final alignment cost.
-    pub cost: &'a [f64],
+/// The scores of one candidate region (lower is better for each; `None`: not computed).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct CandidateScore {
     /// Descriptor projection score ([`RegionScores::descriptors`]).
-    pub descriptors: &'a [f64],
+    pub descriptor_score: Option<f64>,
     /// Region cost ([`RegionScores::region_cost`]).
-    pub region_cost: &'a [f64],
-    /// [`boundary_misfit`] (NaN or missing counts as 0).
-    pub boundary_misfit: &'a [f64],
-    /// [`partial_fits`] (an empty slice: not computed, no effect; NaN ranks last).
-    pub partial_fit: &'a [f64],
+    pub region_cost: Option<f64>,
+    /// [`boundary_misfit`] (`None` when a boundary length is 0).
+    pub boundary_misfit: Option<f64>,
+    /// [`partial_fits`] (`None` for an empty region).
+    pub partial_fit: Option<f64>,
 }
 
-/// The chosen candidate among `pool` (indices into the per-candidate arrays) by `rule`; ties
-/// go to the lower index, NaN scores rank last. `Gated`: among the candidates of the pool
-/// whose region cost is at most [`REGION_COST_GATE`] times the pool's lowest or at most
-/// `floor` (all of the pool if no region cost is finite), the lowest
-/// $d \, f^\gamma \exp(\beta\,m)$: $d$ the descriptor score, $f$ the partial fit ([`partial_fits`]),
-/// $\gamma$ = [`PARTIAL_FIT_EXPONENT`], $m$ the [`boundary_misfit`], $\beta$ =
-/// [`BOUNDARY_WEIGHT`]. Returns 0 for an empty pool.
-pub fn choose(rule: Selection, pool: &[usize], scores: &CandidateScores<'_>, floor: f64) -> usize {
-    let nan_last = |x: f64| if x.is_nan() { f64::INFINITY } else { x };
-    let at = |values: &[f64], i: usize| values.get(i).copied().unwrap_or(f64::NAN);
-    let lowest = |values: &[f64], among: &[usize]| {
-        among
-            .iter()
-            .copied()
-            .min_by(|&a, &b| nan_last(at(values, a)).total_cmp(&nan_last(at(values, b))).then(a.cmp(&b)))
-            .unwrap_or(0)
-    };
-    let region_cost = scores.region_cost;
-    match rule {
-        Selection::Cost => lowest(scores.cost, pool),
-        Selection::Descriptors => lowest(scores.descriptors, pool),
-        Selection::Region => lowest(region_cost, pool),
-        Selection::Gated => {
-            let best = pool.iter().map(|&i| at(region_cost, i)).filter(|x| x.is_finite()).fold(f64::INFINITY, f64::min);
-            let gated: Vec<usize> = if best.is_finite() {
-                let gate = (REGION_COST_GATE * best).max(floor);
-                pool.iter().copied().filter(|&i| at(region_cost, i) <= gate).collect()
-            } else {
-                pool.to_vec()
-            };
-            let weighted: Vec<f64> = (0..scores.descriptors.len())
-                .map(|i| {
-                    let m = at(scores.boundary_misfit, i);
-                    let m = if m.is_nan() { 0.0 } else { m };
-                    // Not computed: no effect; NaN (an empty region): ranks last.
-                    let f = scores.partial_fit.get(i).copied().unwrap_or(1.0);
-                    at(scores.descriptors, i) * f.powf(PARTIAL_FIT_EXPONENT) * (BOUNDARY_WEIGHT * m).exp()
-                })
-                .collect();
-            lowest(&weighted, &gated)
-        }
+impl CandidateScore {
+    /// $d\,f^\gamma \exp(\beta\,m)$: the descriptor score $d$, the partial fit $f$ to the power
+    /// [`PARTIAL_FIT_EXPONENT`], the [`boundary_misfit`] $m$ with weight [`BOUNDARY_WEIGHT`]
+    /// (a missing misfit counts as 0). `None` if $d$ or $f$ is missing.
+    pub fn ranking(&self) -> Option<f64> {
+        let m = self.boundary_misfit.filter(|m| !m.is_nan()).unwrap_or(0.0);
+        let r = self.descriptor_score? * self.partial_fit?.powf(PARTIAL_FIT_EXPONENT) * (BOUNDARY_WEIGHT * m).exp();
+        (!r.is_nan()).then_some(r)
     }
+}
+
+/// The chosen candidate (an index into `scores`; `None` for no candidate): among those whose
+/// region cost is at most [`REGION_COST_GATE`] times the lowest or at most `floor` (all of
+/// them if no region cost is known), the lowest [`CandidateScore::ranking`]; ties go to the
+/// lower index, a missing ranking ranks last. The region cost rules out regions that do not
+/// reproduce the partial's spectra; the descriptors, the partial fit (which tells a region
+/// from its mirror twin) and the boundary choose among the rest.
+pub fn choose(scores: &[CandidateScore], floor: f64) -> Option<usize> {
+    let finite = |x: Option<f64>| x.filter(|v| v.is_finite());
+    let best = scores.iter().filter_map(|s| finite(s.region_cost)).fold(f64::INFINITY, f64::min);
+    let gated: Vec<usize> = if best.is_finite() {
+        let gate = (REGION_COST_GATE * best).max(floor);
+        (0..scores.len()).filter(|&i| scores[i].region_cost.is_some_and(|c| c <= gate)).collect()
+    } else {
+        (0..scores.len()).collect()
+    };
+    let key = |i: usize| scores[i].ranking().unwrap_or(f64::INFINITY);
+    gated.into_iter().min_by(|&a, &b| key(a).total_cmp(&key(b)).then(a.cmp(&b)))
 }
 
 fn restrict_rows(m: &Mat<f64>, rows: &[u32]) -> Mat<f64> {
@@ -290,10 +294,17 @@ fn restrict_rows(m: &Mat<f64>, rows: &[u32]) -> Mat<f64> {
 mod tests {
     use super::*;
 
-    /// [`choose`] with no partial fits (NaN: no effect).
-    fn pick(rule: Selection, pool: &[usize], cost: &[f64], desc: &[f64], region: &[f64], misfit: &[f64], floor: f64) -> usize {
-        let scores = CandidateScores { cost, descriptors: desc, region_cost: region, boundary_misfit: misfit, partial_fit: &[] };
-        choose(rule, pool, &scores, floor)
+    /// A score with every entry known (NaN entries become `None`).
+    fn score(desc: f64, region: f64, misfit: f64, fit: f64) -> CandidateScore {
+        let some = |x: f64| (!x.is_nan()).then_some(x);
+        CandidateScore { descriptor_score: some(desc), region_cost: some(region), boundary_misfit: some(misfit), partial_fit: some(fit) }
+    }
+
+    fn pick(desc: &[f64], region: &[f64], misfit: &[f64], fit: &[f64], floor: f64) -> Option<usize> {
+        let at = |v: &[f64], i: usize| v.get(i).copied().unwrap_or(f64::NAN);
+        let scores: Vec<CandidateScore> =
+            (0..desc.len()).map(|i| score(desc[i], at(region, i), at(misfit, i), fit.get(i).copied().unwrap_or(1.0))).collect();
+        choose(&scores, floor)
     }
 
     #[test]
@@ -358,7 +369,7 @@ mod tests {
         let faces: Vec<[u32; 3]> = shape.faces().iter().filter(|f| f.iter().all(|&i| region[i as usize])).copied().collect();
         let (partial, _) = crate::mesh::TriMesh::new_dropping_isolated(shape.vertices().to_vec(), faces).unwrap();
         let radius = 0.15;
-        let describe = |m: &crate::mesh::TriMesh| crate::alignment::shot::shot_descriptors(m, radius, 3).unwrap();
+        let describe = |m: &crate::mesh::TriMesh| crate::geometry::shot::shot_descriptors(m, radius, 3).unwrap();
         let d_part = describe(&partial);
         let own = partial_fits(&describe(&shape), &d_part, &[&region]).unwrap()[0];
         let mirrored = partial_fits(&describe(&mirror), &d_part, &[&region]).unwrap()[0];
@@ -367,47 +378,33 @@ mod tests {
     }
 
     #[test]
-    fn choose_follows_each_rule_within_the_pool() {
-        const NO_MISFIT: [f64; 4] = [f64::NAN; 4];
-        let cost = [0.1, 5.0, 0.2, 9.0];
+    fn choose_gates_by_region_cost_and_ranks_the_rest() {
         let desc = [40.0, 10.0, 30.0, 20.0];
         let region = [90.0, 3.0, 2.0, f64::NAN];
-        let all = [0, 1, 2, 3];
-        assert_eq!(pick(Selection::Cost, &all, &cost, &desc, &region, &NO_MISFIT, 0.0), 0);
-        assert_eq!(pick(Selection::Descriptors, &all, &cost, &desc, &region, &NO_MISFIT, 0.0), 1);
-        assert_eq!(pick(Selection::Region, &all, &cost, &desc, &region, &NO_MISFIT, 0.0), 2);
-        // Gate: region costs <= 3 x 2.0 keep 1 and 2 (not 0: 90, not 3: NaN); lowest desc is 1.
-        assert_eq!(pick(Selection::Gated, &all, &cost, &desc, &region, &NO_MISFIT, 0.0), 1);
-        // Only the pool counts: without 1, the gate keeps 2 alone.
-        assert_eq!(pick(Selection::Gated, &[0, 2, 3], &cost, &desc, &region, &NO_MISFIT, 0.0), 2);
+        // Gate: region costs <= 3 x 2.0 keep 1 and 2 (not 0: 90, not 3: unknown); lowest desc is 1.
+        assert_eq!(pick(&desc, &region, &[], &[], 0.0), Some(1));
+        // Without 1 the gate keeps 2 alone.
+        assert_eq!(pick(&[40.0, 1e9, 30.0, 20.0], &region, &[], &[], 0.0), Some(2));
         // A wider gate admits the better descriptor score.
-        let region2 = [5.0, 2.0, 7.0];
-        assert_eq!(pick(Selection::Gated, &[0, 1, 2], &cost, &[1.0, 3.0, 0.5], &region2, &NO_MISFIT, 0.0), 0);
-        // No finite region cost: descriptors alone.
-        let nan = [f64::NAN; 4];
-        assert_eq!(pick(Selection::Gated, &all, &cost, &desc, &nan, &NO_MISFIT, 0.0), 1);
-        assert_eq!(pick(Selection::Cost, &[], &cost, &desc, &region, &NO_MISFIT, 0.0), 0);
+        assert_eq!(pick(&[1.0, 3.0, 0.5], &[5.0, 2.0, 7.0], &[], &[], 0.0), Some(0));
+        // No known region cost: the ranking alone.
+        assert_eq!(pick(&desc, &[], &[], &[], 0.0), Some(1));
+        assert_eq!(choose(&[], 0.0), None);
         // All region costs small: the floor admits every good fit, not just 3x the best.
         let small = [0.02, 0.13, 0.09, 0.4];
-        assert_eq!(pick(Selection::Gated, &all, &cost, &[9.0, 3.0, 2.0, 1.0], &small, &NO_MISFIT, 0.0), 0);
-        assert_eq!(pick(Selection::Gated, &all, &cost, &[9.0, 3.0, 2.0, 1.0], &small, &NO_MISFIT, 0.2), 2);
+        assert_eq!(pick(&[9.0, 3.0, 2.0, 1.0], &small, &[], &[], 0.0), Some(0));
+        assert_eq!(pick(&[9.0, 3.0, 2.0, 1.0], &small, &[], &[], 0.2), Some(2));
         // A boundary far longer than the partial's (misfit ln 4) outweighs a 10% better
-        // descriptor score; NaN misfit counts as a perfect fit.
-        if BOUNDARY_WEIGHT > 0.0 {
-            let misfit = [0.0, 4f64.ln(), f64::NAN, 0.0];
-            assert_eq!(pick(Selection::Gated, &[0, 1], &cost, &[1.0, 0.9, 0.0, 0.0], &[1.0; 4], &misfit, 0.0), 0);
-            assert_eq!(pick(Selection::Gated, &[1, 2], &cost, &[1.0, 0.9, 0.95, 0.0], &[1.0; 4], &misfit, 0.0), 2);
-        }
+        // descriptor score; a missing misfit counts as a perfect fit.
+        let misfit = [0.0, 4f64.ln(), f64::NAN];
+        assert_eq!(pick(&[1.0, 0.9], &[1.0; 2], &misfit, &[], 0.0), Some(0));
+        assert_eq!(pick(&[f64::INFINITY, 0.9, 0.95], &[1.0; 3], &misfit, &[], 0.0), Some(2));
         // Mirror twins: equal descriptor scores and region costs, the partial fit decides
-        // (f^2: 0.40 against 0.45 outweighs a 20% worse descriptor score, not a 30% one); only
-        // the gated rule uses it.
-        let fit = [0.45, 0.40, f64::NAN, 0.40];
-        let desc3 = [1.0, 1.2, 1.0, 1.3];
-        let scores = CandidateScores { cost: &cost, descriptors: &desc3, region_cost: &[1.0; 4], boundary_misfit: &[], partial_fit: &fit };
-        assert_eq!(choose(Selection::Gated, &[0, 1], &scores, 0.0), 1);
-        assert_eq!(choose(Selection::Gated, &[0, 3], &scores, 0.0), 0);
-        assert_eq!(choose(Selection::Gated, &[1, 2], &scores, 0.0), 1, "a NaN fit ranks last");
-        assert_eq!(choose(Selection::Descriptors, &[0, 1], &scores, 0.0), 0);
+        // (f^2: 0.40 against 0.45 outweighs a 20% worse descriptor score, not a 30% one); a
+        // missing fit (an empty region) ranks last.
+        assert_eq!(pick(&[1.0, 1.2], &[1.0; 2], &[], &[0.45, 0.40], 0.0), Some(1));
+        assert_eq!(pick(&[1.0, 1.3], &[1.0; 2], &[], &[0.45, 0.40], 0.0), Some(0));
+        assert_eq!(pick(&[1.0, 1.0], &[1.0; 2], &[], &[f64::NAN, 0.40], 0.0), Some(1));
         assert!((boundary_misfit(2.0, 1.0) - 2f64.ln()).abs() < 1e-15);
         assert_eq!(boundary_misfit(1.0, 2.0), boundary_misfit(2.0, 1.0));
         assert!(boundary_misfit(0.0, 1.0).is_nan());

@@ -2,9 +2,8 @@
 //! vertex (Salti, Tombari, Di Stefano 2014, "SHOT: Unique signatures of histograms for
 //! surface and texture description", CVIU 125).
 //!
-//! Used twice by the pipeline (ALGORITHM.md): to build the descriptor start (k-means of
-//! the SHOT of both shapes, `alignment::descriptor_start::descriptor_baseline_mask`) and to score
-//! the candidate regions ("Choosing among the starts").
+//! The localizer scores its candidate regions with them (docs/algorithm.md, "Choosing among
+//! the starts").
 //!
 //! # Definition
 //! For a vertex `p` with support `S = { q : 0 < |q - p| <= R }` (a kd-tree radius search):

@@ -1,0 +1,184 @@
+//! The localizer: find the region of a full mesh that a partial mesh is
+//! (docs/algorithm.md, the whole pipeline).
+//!
+//! [`Localizer::new`] prepares what depends on the full shape alone, once: its scale, the
+//! decimated optimisation mesh and its cells on the full shape, the transferred
+//! scale-invariant factor, the SHOT descriptors, the start centres and plane directions,
+//! and one symbolic Cholesky analysis shared by every eigensolver. [`Localizer::locate`]
+//! then runs the stages for one partial ([`stages`]); a `Localizer` is `Send + Sync`, so
+//! several partials may be located concurrently. [`localize`] is the one-call form
+//! (geometry-central's `HeatMethodDistanceSolver` beside `heatMethodDistance`).
+
+pub mod options;
+pub mod result;
+mod stages;
+
+pub use options::{option_spec, options_schema_json, Mode, OptionKind, OptionSpec, Options, MIN_RESOLUTION, OPTIONS};
+pub use result::{Candidate, Localization, Timings};
+
+use crate::error::{Error, Result};
+use crate::mesh::TriMesh;
+use crate::progress::Progress;
+use crate::shape::Shape;
+use faer::Mat;
+use std::time::Instant;
+
+/// A full shape prepared for locating partials on it.
+pub struct Localizer {
+    options: Options,
+    /// Vertices of the full mesh as given (the length of every per-vertex result).
+    n_vertices: usize,
+    /// $1/\sqrt{A_M}$: both shapes are scaled by it, so that the full shape has unit area and
+    /// results do not depend on units.
+    scale: f64,
+    /// The full shape, scaled.
+    full: TriMesh,
+    /// Vertex neighbours of the full shape (the closing of regions).
+    full_neighbors: Vec<Vec<u32>>,
+    /// The optimisation mesh (the full shape decimated to about `resolution` vertices).
+    coarse: Shape,
+    /// Full-shape vertex each optimisation vertex came from.
+    coarse_to_full: Vec<u32>,
+    /// The optimisation-mesh cell of each full-shape vertex (its nearest optimisation vertex).
+    cell_of_full: Vec<u32>,
+    /// SHOT descriptors of the optimisation vertices, with their support at the data's
+    /// resolution.
+    coarse_descriptors: Mat<f64>,
+    /// Farthest-point centres on the optimisation mesh and the edge-graph distances from each.
+    centres: Vec<usize>,
+    centre_distances: Vec<Vec<f64>>,
+    /// Heights of the optimisation vertices along each plane-cut direction.
+    plane_heights: Vec<Vec<f64>>,
+    workers: rayon::ThreadPool,
+    warnings: Vec<String>,
+    preparation_seconds: f64,
+}
+
+impl std::fmt::Debug for Localizer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Localizer")
+            .field("n_vertices", &self.n_vertices)
+            .field("optimisation_vertices", &self.coarse.n_vertices())
+            .field("options", &self.options)
+            .finish()
+    }
+}
+
+impl Localizer {
+    /// Prepare `full` for the given options (checked first).
+    pub fn new(full: &TriMesh, options: &Options) -> Result<Self> {
+        Self::with_progress(full, options, &Progress::none())
+    }
+
+    /// [`Localizer::new`], reporting progress and cancellable.
+    pub fn with_progress(full: &TriMesh, options: &Options, progress: &Progress) -> Result<Self> {
+        let t0 = Instant::now();
+        options.validate()?;
+        let workers = rayon::ThreadPoolBuilder::new()
+            .num_threads(options.threads)
+            .build()
+            .map_err(|e| Error::Numerical(format!("thread pool: {e}")))?;
+        let mut localizer = workers.install(|| stages::prepare(full, options, progress))?;
+        localizer.workers = workers;
+        localizer.preparation_seconds = t0.elapsed().as_secs_f64();
+        Ok(localizer)
+    }
+
+    /// Locate `partial` on the prepared full shape. Documented behaviours on unusual input: a
+    /// partial without boundary is rejected (a closed surface has no Dirichlet spectrum to
+    /// match); a partial larger than 1.1x the full shape's area is rejected; a disconnected
+    /// partial is reduced to its largest connected component (a warning says so).
+    pub fn locate(&self, partial: &TriMesh, progress: &Progress) -> Result<Localization> {
+        self.locate_with_initial_regions(partial, &[], progress)
+    }
+
+    /// [`Localizer::locate`] with extra starts: each mask (one `bool` per vertex of the full
+    /// mesh) is a guess of the region, started from as $w_0 = 2 - 4R_0$; such starts are
+    /// labelled `given#i` in [`Localization::candidates`].
+    pub fn locate_with_initial_regions(
+        &self,
+        partial: &TriMesh,
+        initial_regions: &[Vec<bool>],
+        progress: &Progress,
+    ) -> Result<Localization> {
+        for (i, r) in initial_regions.iter().enumerate() {
+            if r.len() != self.n_vertices {
+                return Err(Error::InvalidArgument(format!(
+                    "initial region {i} has {} entries, the full mesh {} vertices",
+                    r.len(),
+                    self.n_vertices
+                )));
+            }
+        }
+        stages::locate(self, partial, initial_regions, progress)
+    }
+
+    /// The options it was prepared with.
+    pub fn options(&self) -> &Options {
+        &self.options
+    }
+
+    /// Vertices of the full mesh.
+    pub fn n_vertices(&self) -> usize {
+        self.n_vertices
+    }
+
+    /// Vertices of the optimisation mesh.
+    pub fn optimisation_vertices(&self) -> usize {
+        self.coarse.n_vertices()
+    }
+
+    /// Notes on the preparation (e.g. a decimation that failed), repeated in every result.
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
+
+    /// Seconds [`Localizer::new`] took.
+    pub fn preparation_seconds(&self) -> f64 {
+        self.preparation_seconds
+    }
+}
+
+/// Find the region of `full` that `partial` corresponds to: [`Localizer::new`] then
+/// [`Localizer::locate`].
+///
+/// ```
+/// use dualspectra::evaluation::synthetic::{synthetic_pair, SyntheticParams};
+/// use dualspectra::{localize, Options, Progress};
+/// # fn main() -> dualspectra::Result<()> {
+/// // A figure with limbs, and a part cut off a posed copy of it.
+/// let pair = synthetic_pair(&SyntheticParams { level: 3, ..SyntheticParams::default() })?;
+/// let options = Options { k: 8, centers: 2, max_iterations: 10, ..Options::default() };
+/// let found = localize(&pair.full, &pair.partial, &options, &Progress::none())?;
+/// assert_eq!(found.region.len(), pair.full.n_vertices());
+/// assert!(found.region.iter().any(|&inside| inside));
+/// # Ok(()) }
+/// ```
+pub fn localize(full: &TriMesh, partial: &TriMesh, options: &Options, progress: &Progress) -> Result<Localization> {
+    let localizer = Localizer::with_progress(full, options, &progress.sub(0.0, 0.05))?;
+    let mut result = localizer.locate(partial, &progress.sub(0.05, 1.0))?;
+    result.timings.preparation = localizer.preparation_seconds;
+    result.timings.total += localizer.preparation_seconds;
+    Ok(result)
+}
+
+/// [`localize`] with extra starts (see [`Localizer::locate_with_initial_regions`]).
+pub fn localize_with_initial_regions(
+    full: &TriMesh,
+    partial: &TriMesh,
+    options: &Options,
+    initial_regions: &[Vec<bool>],
+    progress: &Progress,
+) -> Result<Localization> {
+    let localizer = Localizer::with_progress(full, options, &progress.sub(0.0, 0.05))?;
+    let mut result = localizer.locate_with_initial_regions(partial, initial_regions, &progress.sub(0.05, 1.0))?;
+    result.timings.preparation = localizer.preparation_seconds;
+    result.timings.total += localizer.preparation_seconds;
+    Ok(result)
+}
+
+// Compile-time check: a prepared shape may be shared between threads.
+const _: fn() = || {
+    fn send_sync<T: Send + Sync>() {}
+    send_sync::<Localizer>();
+};

@@ -1,0 +1,482 @@
+//! The localizer's stages, in order (docs/algorithm.md): prepare the full shape (once per
+//! [`Localizer`]), then for each partial: target, starts, runs, candidates, scores, choice,
+//! result. [`locate`] reads as that list.
+
+use super::{Candidate, Localization, Localizer, Options, Timings};
+use crate::alignment::cost::{potential_from_w, AlignmentCost, SpectrumTerm};
+use crate::alignment::starts::{self, Start};
+use crate::alignment::trust_region::{minimize, HessianOperator, Point, TrustRegionParams};
+use crate::error::{Error, Result};
+use crate::geometry::shot;
+use crate::mesh::TriMesh;
+use crate::progress::Progress;
+use crate::region::energy::{area_matched_region, eigenvector_energy};
+use crate::selection::{self, CandidateScore};
+use crate::shape::{Metric, Shape};
+use faer::Mat;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
+
+/// Step height of the relaxed potential: $v \in [0, 2c]$ with $2c = 50\,\mu_k$
+/// (docs/algorithm.md, "Relaxation"), one height per spectrum on one shared $w$.
+pub const STEP_HEIGHT_FACTOR: f64 = 50.0;
+
+/// A vertex mask on the optimisation (coarse) mesh.
+#[derive(Debug, Clone, PartialEq)]
+struct CoarseMask(Vec<bool>);
+
+/// A vertex mask on the full mesh.
+#[derive(Debug, Clone, PartialEq)]
+struct FullMask(Vec<bool>);
+
+impl Localizer {
+    /// A full-shape mask read at the vertex each optimisation vertex came from.
+    fn to_coarse(&self, mask: &[bool]) -> CoarseMask {
+        CoarseMask(self.coarse_to_full.iter().map(|&j| mask[j as usize]).collect())
+    }
+
+    /// A coarse mask spread over each optimisation vertex's cell on the full shape, then
+    /// closed ([`crate::region::CLOSING_RINGS`] rings).
+    fn to_full(&self, mask: &CoarseMask) -> Result<FullMask> {
+        let spread: Vec<bool> = self.cell_of_full.iter().map(|&j| mask.0[j as usize]).collect();
+        Ok(FullMask(crate::region::closing::close(&spread, &self.full_neighbors, crate::region::CLOSING_RINGS)?))
+    }
+}
+
+/// Everything that depends on the full shape alone ([`Localizer::new`]). Runs on the
+/// localizer's pool; the caller sets `workers` and the timing.
+pub(super) fn prepare(full: &TriMesh, options: &Options, progress: &Progress) -> Result<Localizer> {
+    progress.report(0.0, "preparing")?;
+    let mut warnings = Vec::new();
+    let scale = 1.0 / full.area().sqrt();
+    let full_n = full.map_positions(|p| p.map(|c| c * scale))?;
+    let decimated = if options.resolution > 0 && options.resolution < full_n.n_vertices() {
+        let ratio = options.resolution as f64 / full_n.n_vertices() as f64;
+        match crate::mesh::decimate::decimate(&full_n, ratio) {
+            Ok(d) => Some((d.mesh, d.original_vertex)),
+            Err(e) => {
+                warnings.push(format!("decimation failed ({e}); optimising on the full-resolution shape"));
+                None
+            }
+        }
+    } else {
+        None
+    };
+    let (coarse_mesh, coarse_to_full) = decimated.unwrap_or_else(|| {
+        let n = full_n.n_vertices() as u32;
+        (full_n.clone(), (0..n).collect())
+    });
+    progress.check()?;
+    let cell_of_full = crate::mesh::nearest::nearest_vertices(coarse_mesh.vertices(), full_n.vertices())?;
+    let coarse = coarse_shape(coarse_mesh, &full_n, &coarse_to_full, &cell_of_full, options.alpha)?;
+    // Warm the caches every locate reads (operators, both masses, the symbolic analysis).
+    coarse.dirichlet_symbolic()?;
+    coarse.metric_mass(Metric::ScaleInvariant);
+    progress.report(0.4, "descriptors")?;
+    let (radius, min_nb) = (shot::DEFAULT_RADIUS_FRACTION, shot::DEFAULT_MIN_NEIGHBORS);
+    let coarse_descriptors = if coarse.n_vertices() < full_n.n_vertices() {
+        // The optimisation vertices described with their support at the data's resolution,
+        // as the partial's are.
+        shot::shot_keypoint_descriptors(&full_n, &coarse_to_full, radius, min_nb)?
+    } else {
+        shot::shot_descriptors(coarse.mesh(), radius, min_nb)?
+    };
+    progress.report(0.9, "starts")?;
+    let points = coarse.mesh().vertices();
+    let centres = starts::farthest_point_samples(points, options.centers, options.seed);
+    let centre_distances = starts::centre_distances(coarse.mesh(), &centres);
+    let plane_heights = starts::plane_heights(points, coarse.mass(), options.plane_cuts);
+    let full_neighbors = crate::mesh::topology::vertex_neighbors(&full_n);
+    progress.report(1.0, "prepared")?;
+    Ok(Localizer {
+        options: options.clone(),
+        n_vertices: full.n_vertices(),
+        scale,
+        full: full_n,
+        full_neighbors,
+        coarse,
+        coarse_to_full,
+        cell_of_full,
+        coarse_descriptors,
+        centres,
+        centre_distances,
+        plane_heights,
+        workers: rayon::ThreadPoolBuilder::new().num_threads(1).build().map_err(|e| Error::Numerical(e.to_string()))?,
+        warnings,
+        preparation_seconds: 0.0,
+    })
+}
+
+/// The optimisation mesh as a [`Shape`]. When it is a decimation of `full`, its
+/// scale-invariant factor is estimated at the data's resolution (as the partial's is) and
+/// integrated over its cells (`cell_of_full[i]`: the cell of full vertex `i`;
+/// [`crate::geometry::metric::transfer_factor`]; docs/benchmarks/options.md).
+fn coarse_shape(coarse: TriMesh, full: &TriMesh, coarse_to_full: &[u32], cell_of_full: &[u32], alpha: f64) -> Result<Shape> {
+    let eps = crate::geometry::metric::DEFAULT_EPS;
+    if coarse.n_vertices() >= full.n_vertices() {
+        return Ok(Shape::with_metric_params(coarse, alpha, eps));
+    }
+    let curvature = crate::geometry::smoothed_gaussian_curvature(full);
+    let fine = crate::geometry::metric::scale_invariant_factor(&curvature, alpha, eps);
+    let fine_mass = crate::operators::mass::lumped_mass(full);
+    let fallback: Vec<f64> = coarse_to_full.iter().map(|&j| fine[j as usize]).collect();
+    let factor = crate::geometry::metric::transfer_factor(&fine, &fine_mass, cell_of_full, &fallback);
+    Shape::with_scale_invariant_factor(coarse, alpha, eps, factor)
+}
+
+/// The partial, scaled like the full shape, with its spectra and descriptors: what the
+/// optimisation matches.
+struct Target {
+    shape: Shape,
+    area: f64,
+    terms: Vec<SpectrumTerm>,
+    descriptors: Mat<f64>,
+    warnings: Vec<String>,
+}
+
+/// One optimised start.
+struct Run {
+    label: String,
+    w: Vec<f64>,
+    cost: f64,
+    iterations: usize,
+    evaluations: usize,
+    /// Eigenvalues per term at the optimum.
+    eigenvalues: Vec<Vec<f64>>,
+    /// Mean eigenvector energy per optimisation vertex at the optimum.
+    energy: Vec<f64>,
+}
+
+/// A run with its region on both meshes and its scores.
+struct Scored {
+    run: Run,
+    full: FullMask,
+    score: CandidateScore,
+}
+
+/// The stages for one partial.
+pub(super) fn locate(loc: &Localizer, partial: &TriMesh, initial_regions: &[Vec<bool>], progress: &Progress) -> Result<Localization> {
+    let clock = Clock::start();
+    progress.report(0.0, "preprocessing")?;
+    let target = loc.workers.install(|| target(loc, partial))?;
+    let t_pre = clock.lap();
+    progress.report(0.05, "starts")?;
+    let starts = starts_for(loc, &target, initial_regions);
+    if starts.is_empty() {
+        return Err(Error::InvalidArgument("no starts (centers = 0 and plane_cuts = 0, no initial region)".into()));
+    }
+    let t_starts = clock.lap();
+    let (runs, failure) = optimise(loc, &target, &starts, &progress.sub(0.05, 0.9))?;
+    let t_opt = clock.lap();
+    progress.report(0.9, "regions")?;
+    let candidates = regions(loc, &target, runs)?;
+    let t_region = clock.lap();
+    progress.report(0.93, "selecting")?;
+    let scored = loc.workers.install(|| score(loc, &target, candidates))?;
+    let floor = target.terms.iter().map(|t| t.target.len()).sum::<usize>() as f64 * selection::REGION_COST_FLOOR_RMS.powi(2);
+    let scores: Vec<CandidateScore> = scored.iter().map(|c| c.score).collect();
+    let choice = selection::choose(&scores, floor).unwrap_or(0);
+    let t_sel = clock.lap();
+    progress.report(1.0, "done")?;
+    let mut warnings = loc.warnings.clone();
+    warnings.extend(target.warnings.iter().cloned());
+    warnings.extend(failure);
+    let timings = Timings {
+        preparation: 0.0,
+        preprocessing: t_pre,
+        starts: t_starts,
+        optimisation: t_opt,
+        region: t_region,
+        selection: t_sel,
+        total: clock.total(),
+    };
+    Ok(result(loc, &target, scored, choice, timings, warnings))
+}
+
+/// Stage 1: the partial's largest component, scaled; its Dirichlet spectra and descriptors.
+fn target(loc: &Localizer, partial: &TriMesh) -> Result<Target> {
+    let options = &loc.options;
+    let mut warnings = Vec::new();
+    let (component, dropped) = largest_component(partial)?;
+    if dropped {
+        warnings.push(format!(
+            "the partial shape is disconnected: only its largest component ({} of {} vertices) is localized",
+            component.n_vertices(),
+            partial.n_vertices()
+        ));
+    }
+    let scaled = component.map_positions(|p| p.map(|c| c * loc.scale))?;
+    let area = scaled.area();
+    if area > 1.1 {
+        return Err(Error::InvalidArgument(format!(
+            "the partial shape's area is {area:.2}x the full shape's: it cannot be a part of it"
+        )));
+    }
+    let shape = Shape::with_metric_params(scaled, options.alpha, crate::geometry::metric::DEFAULT_EPS);
+    if !shape.has_boundary() {
+        return Err(Error::InvalidArgument(
+            "the partial shape has no boundary (it is closed): there is no Dirichlet spectrum to match; \
+             compare whole shapes with the similarity tools instead"
+                .into(),
+        ));
+    }
+    let (k_regular, k_si) = options.mode.counts(options.k);
+    let mut terms = Vec::new();
+    for (metric, k) in [(Metric::Regular, k_regular), (Metric::ScaleInvariant, k_si)] {
+        if k > 0 {
+            let values = shape.dirichlet_spectrum(metric, k)?.values;
+            let height = 0.5 * STEP_HEIGHT_FACTOR * values[values.len() - 1];
+            terms.push(SpectrumTerm { metric, target: values, height });
+        }
+    }
+    let descriptors = shot::shot_descriptors(shape.mesh(), shot::DEFAULT_RADIUS_FRACTION, shot::DEFAULT_MIN_NEIGHBORS)?;
+    Ok(Target { shape, area, terms, descriptors, warnings })
+}
+
+/// Stage 2: the starts. Given regions first, then per centre an area-matched ball, its
+/// complement and a wide Gaussian bump, then the plane cuts.
+fn starts_for(loc: &Localizer, target: &Target, initial_regions: &[Vec<bool>]) -> Vec<Start> {
+    let points = loc.coarse.mesh().vertices();
+    let mass = loc.coarse.mass();
+    let sigma = target.area.sqrt();
+    let mut out: Vec<Start> = initial_regions
+        .iter()
+        .enumerate()
+        .map(|(i, r)| starts::mask_start(&loc.to_coarse(r).0, &format!("given#{i}")))
+        .collect();
+    let balls = starts::area_ball_starts(&loc.centre_distances, mass, &loc.centres, target.area);
+    for (pair, &c) in balls.chunks(2).zip(&loc.centres) {
+        out.extend(pair.iter().cloned());
+        let [_, bump] = starts::gaussian_pair(points, c, 2.0 * sigma, 1);
+        out.push(bump);
+    }
+    out.extend(starts::plane_cut_starts_from_heights(&loc.plane_heights, mass, target.area));
+    out
+}
+
+/// Stage 3: every start optimised (in parallel on the localizer's pool, progress reported
+/// from this thread). A start that fails numerically is dropped with a warning; all failing
+/// is an error.
+fn optimise(loc: &Localizer, target: &Target, starts: &[Start], progress: &Progress) -> Result<(Vec<Run>, Option<String>)> {
+    use rayon::prelude::*;
+    let iterations = loc.options.max_iterations;
+    let done = AtomicUsize::new(0);
+    let total = (starts.len() * iterations).max(1);
+    let workers_progress = Progress::none().with_cancel_flag(progress.cancel_flag());
+    let outcomes: Vec<Result<Run>> = std::thread::scope(|scope| {
+        let handle = scope.spawn(|| {
+            loc.workers.install(|| {
+                starts
+                    .par_iter()
+                    .map(|s| optimise_start(&loc.coarse, &target.terms, s, iterations, &workers_progress, &done))
+                    .collect()
+            })
+        });
+        while !handle.is_finished() {
+            std::thread::sleep(std::time::Duration::from_millis(50));
+            let fraction = done.load(Ordering::Relaxed) as f64 / total as f64;
+            if progress.report(fraction.min(1.0), "optimising").is_err() {
+                workers_progress.cancel();
+            }
+        }
+        handle.join().unwrap_or_else(|_| vec![Err(Error::Numerical("a worker thread panicked".into()))])
+    });
+    progress.check()?;
+    let mut runs = Vec::with_capacity(outcomes.len());
+    let mut first_error = None;
+    for outcome in outcomes {
+        match outcome {
+            Ok(run) => runs.push(run),
+            Err(Error::Cancelled) => return Err(Error::Cancelled),
+            Err(e) => first_error = first_error.or(Some(e)),
+        }
+    }
+    if runs.is_empty() {
+        return Err(first_error.unwrap_or_else(|| Error::Numerical("no start converged".into())));
+    }
+    Ok((runs, first_error.map(|e| format!("some starts failed and were skipped: {e}"))))
+}
+
+/// `iterations` trust-region iterations from one start, then its spectra and eigenvector
+/// energy at the optimum.
+fn optimise_start(shape: &Shape, terms: &[SpectrumTerm], start: &Start, iterations: usize, progress: &Progress, done: &AtomicUsize) -> Result<Run> {
+    progress.check()?;
+    let mut cost = AlignmentCost::new(shape, terms.to_vec())?;
+    let params = TrustRegionParams { max_iterations: iterations, ..TrustRegionParams::default() };
+    let mut last_iteration = 0;
+    let (w, info) = minimize(
+        |w| {
+            cost.evaluate(w).map(|e| Point {
+                cost: e.cost,
+                gradient: e.gradient,
+                hessian: Some(Box::new(move |eta: &[f64]| e.hessian.apply(eta)) as HessianOperator),
+            })
+        },
+        start.w0.clone(),
+        &params,
+        |iteration, _| {
+            done.fetch_add(1, Ordering::Relaxed);
+            last_iteration = iteration + 1;
+            progress.check()?;
+            Ok(true)
+        },
+    )?;
+    // Credit the iterations skipped by an early convergence, so the progress bar ends at 1.
+    done.fetch_add(iterations.saturating_sub(last_iteration), Ordering::Relaxed);
+    let at_optimum = cost.evaluate(&w)?;
+    let dirichlet = shape.dirichlet();
+    let mut energy = vec![0.0; shape.n_vertices()];
+    let n_terms = at_optimum.spectra.len() as f64;
+    for spectrum in &at_optimum.spectra {
+        let e = dirichlet.extend(&eigenvector_energy(&spectrum.vectors), 0.0);
+        energy.iter_mut().zip(e).for_each(|(a, b)| *a += b / n_terms);
+    }
+    Ok(Run {
+        label: start.label.clone(),
+        w,
+        cost: at_optimum.cost,
+        iterations: info.iterations,
+        evaluations: cost.evaluations,
+        eigenvalues: at_optimum.spectra.iter().map(|s| s.values.clone()).collect(),
+        energy,
+    })
+}
+
+/// Stage 4: each run's region: the superlevel set of its eigenvector energy with the
+/// partial's area on the optimisation mesh, carried to the full shape and closed.
+fn regions(loc: &Localizer, target: &Target, runs: Vec<Run>) -> Result<Vec<(Run, CoarseMask, FullMask)>> {
+    runs.into_iter()
+        .map(|run| {
+            let coarse = CoarseMask(area_matched_region(&run.energy, loc.coarse.mass(), target.area));
+            let full = loc.to_full(&coarse)?;
+            Ok((run, coarse, full))
+        })
+        .collect()
+}
+
+/// Stage 5: every candidate's scores ([`crate::selection`]): descriptor projections and
+/// region cost on the optimisation mesh, the partial fit, the boundary misfit on the full
+/// shape.
+fn score(loc: &Localizer, target: &Target, candidates: Vec<(Run, CoarseMask, FullMask)>) -> Result<Vec<Scored>> {
+    let metrics: Vec<Metric> = target.terms.iter().map(|t| t.metric).collect();
+    let heights: Vec<f64> = target.terms.iter().map(|t| 2.0 * t.height).collect();
+    let target_values: Vec<Vec<f64>> = target.terms.iter().map(|t| t.target.clone()).collect();
+    let signatures = selection::partial_signatures(&target.shape, &target.descriptors, &metrics)?;
+    let coarse_regions: Vec<Vec<bool>> = candidates.iter().map(|(_, c, _)| c.0.clone()).collect();
+    let borrowed: Vec<&[bool]> = coarse_regions.iter().map(Vec::as_slice).collect();
+    let fits = selection::partial_fits(&loc.coarse_descriptors, &target.descriptors, &borrowed)?;
+    let spectral = selection::selection_scores(
+        &loc.coarse,
+        &loc.coarse_descriptors,
+        &metrics,
+        &signatures,
+        &target_values,
+        &heights,
+        &coarse_regions,
+    )?;
+    let partial_boundary = crate::region::boundary::region_boundary_length(target.shape.mesh(), None);
+    let known = |x: f64| (!x.is_nan()).then_some(x);
+    Ok(candidates
+        .into_iter()
+        .enumerate()
+        .map(|(i, (run, coarse, full))| {
+            let length = crate::region::boundary::region_boundary_length(&loc.full, Some(&full.0));
+            let score = CandidateScore {
+                descriptor_score: known(spectral.descriptors[i]),
+                region_cost: known(spectral.region_cost[i]),
+                boundary_misfit: known(selection::boundary_misfit(length, partial_boundary)),
+                partial_fit: known(fits[i]),
+            };
+            let _ = coarse;
+            Scored { run, full, score }
+        })
+        .collect())
+}
+
+/// Stage 7: the chosen candidate's region, score and potential on the full mesh, and every
+/// candidate for inspection.
+fn result(loc: &Localizer, target: &Target, scored: Vec<Scored>, choice: usize, timings: Timings, warnings: Vec<String>) -> Localization {
+    let best = &scored[choice].run;
+    let energy_max = best.energy.iter().cloned().fold(0.0, f64::max).max(f64::MIN_POSITIVE);
+    let score = loc.cell_of_full.iter().map(|&j| (best.energy[j as usize] / energy_max).clamp(0.0, 1.0)).collect();
+    let v = potential_from_w(&best.w, target.terms[0].height);
+    let potential = loc.cell_of_full.iter().map(|&j| v[j as usize] / loc.scale.powi(2)).collect();
+    let (k_regular, _) = loc.options.mode.counts(loc.options.k);
+    let mut values = best.eigenvalues.iter().cloned();
+    let mut targets = target.terms.iter().map(|t| t.target.clone());
+    let (eigenvalues_regular, target_regular) =
+        if k_regular > 0 { (values.next().unwrap_or_default(), targets.next().unwrap_or_default()) } else { Default::default() };
+    let eigenvalues_si = values.next().unwrap_or_default();
+    let target_si = targets.next().unwrap_or_default();
+    let cost = best.cost;
+    let n_starts = scored.len();
+    let region = scored[choice].full.0.clone();
+    let candidates = scored
+        .into_iter()
+        .map(|c| Candidate {
+            label: c.run.label,
+            cost: c.run.cost,
+            scores: c.score,
+            iterations: c.run.iterations,
+            evaluations: c.run.evaluations,
+            region: c.full.0,
+        })
+        .collect();
+    Localization {
+        region,
+        score,
+        potential,
+        eigenvalues_regular,
+        eigenvalues_si,
+        target_regular,
+        target_si,
+        cost,
+        selected_start: choice,
+        n_starts,
+        timings,
+        candidates,
+        warnings,
+    }
+}
+
+/// Keep the largest connected component (by area) of a mesh; returns it and whether anything
+/// was dropped.
+pub(crate) fn largest_component(mesh: &TriMesh) -> Result<(TriMesh, bool)> {
+    let (component, count) = crate::mesh::topology::connected_components(mesh);
+    if count <= 1 {
+        return Ok((mesh.clone(), false));
+    }
+    let mut area = vec![0.0; count];
+    let v = mesh.vertices();
+    for f in mesh.faces() {
+        area[component[f[0] as usize] as usize] +=
+            crate::mesh::triangle_area(v[f[0] as usize], v[f[1] as usize], v[f[2] as usize]);
+    }
+    let best = (0..count).max_by(|&a, &b| area[a].total_cmp(&area[b]).then(b.cmp(&a))).unwrap_or(0) as u32;
+    let faces: Vec<[u32; 3]> = mesh.faces().iter().filter(|f| component[f[0] as usize] == best).copied().collect();
+    let (m, _) = TriMesh::new_dropping_isolated(mesh.vertices().to_vec(), faces)?;
+    Ok((m, true))
+}
+
+/// Seconds per stage.
+struct Clock {
+    start: Instant,
+    lap: std::cell::Cell<Instant>,
+}
+
+impl Clock {
+    fn start() -> Self {
+        let now = Instant::now();
+        Clock { start: now, lap: std::cell::Cell::new(now) }
+    }
+    /// Seconds since the previous lap.
+    fn lap(&self) -> f64 {
+        let now = Instant::now();
+        let seconds = (now - self.lap.get()).as_secs_f64();
+        self.lap.set(now);
+        seconds
+    }
+    fn total(&self) -> f64 {
+        self.start.elapsed().as_secs_f64()
+    }
+}
