@@ -33,5 +33,10 @@ pub use localizer::{localize, localize_with_initial_regions, Candidate, Localiza
 pub use mesh::TriMesh;
 pub use progress::Progress;
 
+/// The README's Rust example, compiled and run as a doc test.
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+pub struct ReadmeDoctests;
+
 /// Version of the core library (the crate version).
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");

@@ -68,7 +68,7 @@ impl Progress {
 
     /// A handle that maps its own `[0, 1]` onto `[a, b]` of this handle's range.
     pub fn sub(&self, a: f64, b: f64) -> Progress {
-        let span = if self.hi > self.lo || self.hi == self.lo { self.hi - self.lo } else { 0.0 };
+        let span = if self.hi >= self.lo { self.hi - self.lo } else { 0.0 };
         Progress {
             callback: self.callback.clone(),
             cancel: self.cancel.clone(),

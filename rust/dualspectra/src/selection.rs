@@ -19,7 +19,8 @@ use crate::shape::{Metric, Shape};
 use crate::spectra::{EigenParams, HamiltonianSolver};
 
 /// The gate of [`choose`]: a candidate is admitted when its region cost is at most this multiple
-/// of the lowest (2 and 5 were measured worse: docs/benchmarks/options.md).
+/// of the lowest (2 was worse in two of three measurements, 4 to 6 equal:
+/// docs/benchmarks/options.md).
 pub const REGION_COST_GATE: f64 = 3.0;
 
 /// The gate always admits regions whose eigenvalues match the partial's to this
@@ -239,8 +240,8 @@ pub fn boundary_misfit(region_length: f64, partial_length: f64) -> f64 {
     }
 }
 
-/// Exponent $\gamma$ of the partial fit ([`partial_fits`]) in [`choose`]'s ranking (1 and 4
-/// were measured worse: docs/benchmarks/options.md).
+/// Exponent $\gamma$ of the partial fit ([`partial_fits`]) in [`choose`]'s ranking (1 and 8
+/// were measured worse, 4 equal: docs/benchmarks/options.md).
 pub const PARTIAL_FIT_EXPONENT: f64 = 2.0;
 
 /// The scores of one candidate region (lower is better for each; `None`: not computed).

@@ -79,6 +79,24 @@ fn plane_cuts_find_an_oblique_half() {
     eprintln!("oblique half: IoU {score:.3} with plane cuts, {before:.3} without");
 }
 
+/// A named option enum: `all` starts with the default; each name parses back (any case), is
+/// its `Display` and its serde form; `bad` is an error listing every name.
+fn assert_names_round_trip<T>(all: &[T], name: fn(T) -> &'static str, bad: &str)
+where
+    T: Copy + Default + PartialEq + std::fmt::Debug + std::fmt::Display + serde::Serialize,
+    T: std::str::FromStr<Err = Error>,
+{
+    assert_eq!(all[0], T::default());
+    for &v in all {
+        assert_eq!(name(v).parse::<T>().unwrap(), v);
+        assert_eq!(name(v).to_ascii_uppercase().parse::<T>().unwrap(), v);
+        assert_eq!(v.to_string(), name(v));
+        assert_eq!(serde_json::to_value(v).unwrap(), serde_json::Value::String(name(v).into()));
+    }
+    let err = bad.parse::<T>().unwrap_err().to_string();
+    assert!(all.iter().all(|&v| err.contains(name(v))), "{err}");
+}
+
 #[test]
 fn mode_names_round_trip_and_match_serde() {
     assert_names_round_trip(&Mode::ALL, Mode::name, "both");
@@ -203,7 +221,7 @@ fn a_given_region_is_a_start() {
     let full = bumpy_sphere(3);
     let (part, truth) = cut(&full, |p| p[0] + 0.3 * p[1] > 0.2);
     let o = Options { plane_cuts: 0, ..quick() };
-    let res = dualspectra::localize_with_initial_regions(&full, &part, &o, &[truth.clone()], &Progress::none()).unwrap();
+    let res = dualspectra::localize_with_initial_regions(&full, &part, &o, std::slice::from_ref(&truth), &Progress::none()).unwrap();
     assert_eq!(res.candidates.len(), 1 + 3 * o.centers);
     let given = &res.candidates[0];
     assert_eq!(given.label, "given#0");

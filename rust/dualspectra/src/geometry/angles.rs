@@ -42,3 +42,15 @@ pub(crate) fn norm(a: [f64; 3]) -> f64 {
 fn angle_between(u: [f64; 3], v: [f64; 3]) -> f64 {
     norm(cross(u, v)).atan2(dot(u, v))
 }
+
+/// Barycentric vertex areas $a_i = \tfrac13 \sum_{f \ni i} |f|$ (the lumped mass,
+/// [`crate::operators::lumped_mass`], is their diagonal matrix).
+pub fn vertex_areas(mesh: &crate::mesh::TriMesh) -> Vec<f64> {
+    let mut a = vec![0.0; mesh.n_vertices()];
+    for (f, area) in mesh.faces().iter().zip(face_areas(mesh)) {
+        for &i in f {
+            a[i as usize] += area / 3.0;
+        }
+    }
+    a
+}

@@ -23,7 +23,7 @@ pub fn angle_defect(mesh: &TriMesh) -> Vec<f64> {
 
 /// Pointwise Gaussian curvature $K_i$ = angle defect / lumped area (units 1/length^2).
 pub fn gaussian_curvature(mesh: &TriMesh) -> Vec<f64> {
-    let areas = crate::operators::mass::lumped_mass(mesh);
+    let areas = crate::geometry::angles::vertex_areas(mesh);
     angle_defect(mesh).iter().zip(&areas).map(|(d, a)| d / a).collect()
 }
 

@@ -5,7 +5,7 @@
 //! decimated optimisation mesh and its cells on the full shape, the transferred
 //! scale-invariant factor, the SHOT descriptors, the start centres and plane directions,
 //! and one symbolic Cholesky analysis shared by every eigensolver. [`Localizer::locate`]
-//! then runs the stages for one partial ([`stages`]); a `Localizer` is `Send + Sync`, so
+//! then runs the stages for one partial (`stages.rs`); a `Localizer` is `Send + Sync`, so
 //! several partials may be located concurrently. [`localize`] is the one-call form
 //! (geometry-central's `HeatMethodDistanceSolver` beside `heatMethodDistance`).
 

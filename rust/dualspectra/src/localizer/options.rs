@@ -306,7 +306,7 @@ fn check_value(spec: &OptionSpec, value: &serde_json::Value) -> Result<()> {
     if ok {
         Ok(())
     } else {
-        Err(out_of_range(spec, &value.to_string().trim_matches('"').to_string()))
+        Err(out_of_range(spec, value.to_string().trim_matches('"')))
     }
 }
 

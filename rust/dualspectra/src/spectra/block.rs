@@ -124,6 +124,9 @@ fn orthonormalizer(gs: MatRef<'_, f64>, d: &[f64], k: usize) -> Option<Mat<f64>>
 /// are at most `target` (the others are guard vectors: they enrich the Rayleigh-Ritz space and speed up the last wanted pairs).
 /// `factor` may hold an older potential: it is only a preconditioner. `Ok(None)` when it does
 /// not converge in `max_iter` iterations (the caller then solves cold).
+/// Refined eigenvalues, their eigenvectors and the iterations it took.
+pub(crate) type Refined = (Vec<f64>, Mat<f64>, usize);
+
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn refine(
     factor: &ShiftedFactor,
@@ -134,7 +137,7 @@ pub(crate) fn refine(
     wanted: usize,
     target: f64,
     max_iter: usize,
-) -> Result<Option<(Vec<f64>, Mat<f64>, usize)>> {
+) -> Result<Option<Refined>> {
     let (n, k) = (x0.nrows(), x0.ncols());
     let mv: Vec<f64> = mass.iter().zip(potential).map(|(m, v)| m * v).collect();
     let mut solve_mem = MemBuffer::new(factor.solve_scratch(wanted.min(k)));

@@ -3,7 +3,7 @@
 //! potential $\tau(1 - G)$ on the (decimated) full shape against the partial's Dirichlet
 //! spectra, regular and scale-invariant, $k = 20$, $\tau = 50\,\mu_k$.
 //!
-//! `cargo run --release --example 402_ground_truth_spectra -- DATASET [STRIDE] [OFFSET]`
+//! `cargo run --release --example research_ground_truth_spectra -- DATASET [STRIDE] [OFFSET]`
 //! DS_RES: optimisation mesh size (default 1000; 0: full resolution). DS_SI=local: the
 //! scale-invariant factor from the decimated mesh's own curvature instead of the one carried
 //! from the full resolution (`geometry::metric::transfer_factor`, what the localizer does).
@@ -17,7 +17,7 @@ use dualspectra::spectra::{EigenParams, HamiltonianSolver};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
-    let root = args.get(1).ok_or("usage: 402_ground_truth_spectra DATASET [STRIDE] [OFFSET]")?;
+    let root = args.get(1).ok_or("usage: research_ground_truth_spectra DATASET [STRIDE] [OFFSET]")?;
     let stride: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(1);
     let offset: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(0);
     let res: usize = std::env::var("DS_RES").ok().and_then(|v| v.parse().ok()).unwrap_or(1000);
