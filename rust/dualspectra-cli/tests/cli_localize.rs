@@ -94,9 +94,9 @@ fn localize_writes_the_json_schema_and_a_ply() {
     );
     assert!(v["cost"].as_f64().unwrap().is_finite());
     assert!(v["seconds"].as_f64().unwrap() >= 0.0);
-    assert_eq!(v["mode"], "dual");
-    assert_eq!(v["seed"], 3);
-    assert_eq!(v["k"], 6);
+    assert_eq!(v["options"]["mode"], "dual");
+    assert_eq!(v["options"]["seed"], 3);
+    assert_eq!(v["options"]["k"], 6);
     assert_eq!(v["n_starts"], 12, "2 centres x 3 starts (balls-and-wide-bumps) + 6 plane cuts");
     assert!(v["timings"]["total"].as_f64().is_some());
     assert_eq!(v["eigenvalues_regular"].as_array().unwrap().len(), 6);
@@ -133,47 +133,36 @@ fn localize_usage_error(args: &[&str]) -> String {
 }
 
 #[test]
-fn localize_start_options_reach_the_library() {
-    // --starts, --spectral-cuts and --plane-cuts change the number of starts (2 centres x 2
-    // area-ball starts + 2 spectral cuts + 3 plane cuts); a bad start shape is a usage error
-    // listing the names; too many plane cuts is the library's error.
+fn every_library_option_is_a_flag_and_reaches_the_library() {
+    // The flags are built from the library's option table: each option is recorded in the JSON
+    // with the value given; --plane-cuts and --centers change the number of starts (2 centres
+    // x 3 + 3 plane cuts); the older spelling --iterations still works.
     let v = localize_demo_json(
-        "localize-starts",
-        &["--k", "6", "--centers", "2", "--iterations", "3", "--starts", "area-ball", "--spectral-cuts", "1", "--plane-cuts", "3"],
+        "localize-options",
+        &["--k", "6", "--centers", "2", "--iterations", "3", "--plane-cuts", "3", "--mode", "lbo", "--alpha", "0.5", "--threads", "2"],
     );
     assert_eq!(v["n_starts"], 9);
-    let d = demo_dir();
-    let out = bin()
-        .args(["localize", "--quiet"])
-        .arg(d.join("full.off"))
-        .arg(d.join("partial.off"))
-        .args(["--plane-cuts", "27"])
-        .output()
-        .unwrap();
-    assert!(!out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("plane_cuts = 27 must be at most 26"), "{err}");
-    let err = localize_usage_error(&["--starts", "balls"]);
-    assert!(err.contains("balls-and-wide-bumps") && err.contains("area-ball"), "{err}");
-}
-
-#[test]
-fn localize_selection_reaches_the_library() {
-    // The same starts chosen by two rules: `cost` takes the lowest final cost, which on this
-    // pair is not the start the default rule picks (82.2 vs 74.1 when written), so a run
-    // ignoring the option would fail; the rule is recorded; a bad name lists the rules.
-    let mut cost = Vec::new();
-    for rule in ["gated", "cost"] {
-        let v = localize_demo_json(
-            &format!("localize-selection-{rule}"),
-            &["--k", "6", "--centers", "3", "--iterations", "3", "--selection", rule],
-        );
-        assert_eq!(v["selection"], rule);
-        cost.push(v["cost"].as_f64().unwrap());
+    let o = &v["options"];
+    assert_eq!((o["k"].as_u64(), o["centers"].as_u64(), o["max_iterations"].as_u64()), (Some(6), Some(2), Some(3)));
+    assert_eq!((o["mode"].as_str(), o["alpha"].as_f64(), o["threads"].as_u64()), (Some("lbo"), Some(0.5), Some(2)));
+    assert!(v["eigenvalues_si"].as_array().unwrap().is_empty(), "lbo mode matches regular eigenvalues only");
+    let help = String::from_utf8_lossy(&bin().args(["localize", "--help"]).output().unwrap().stdout).into_owned();
+    for spec in dualspectra::localizer::OPTIONS {
+        let flag = format!("--{}", spec.name.replace('_', "-"));
+        assert!(help.contains(&flag), "{flag} missing from --help");
     }
-    assert!(cost[1] < cost[0], "lowest cost {} not below the gated choice's {}", cost[1], cost[0]);
-    let err = localize_usage_error(&["--selection", "best"]);
-    assert!(err.contains("gated") && err.contains("descriptors"), "{err}");
+    // Out-of-range values are usage errors naming the option and its range; removed options
+    // are unknown flags.
+    let err = localize_usage_error(&["--plane-cuts", "27"]);
+    assert!(err.contains("plane_cuts = 27 must be an integer in 0..=26"), "{err}");
+    let err = localize_usage_error(&["--centers", "100000"]);
+    assert!(err.contains("centers") && err.contains("0..=64"), "{err}");
+    let err = localize_usage_error(&["--mode", "both"]);
+    assert!(err.contains("dual") && err.contains("lbo"), "{err}");
+    for removed in ["--selection", "--starts", "--spectral-cuts", "--finalists"] {
+        let err = localize_usage_error(&[removed, "1"]);
+        assert!(err.contains("unexpected argument"), "{removed}: {err}");
+    }
 }
 
 #[test]
