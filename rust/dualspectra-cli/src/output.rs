@@ -32,3 +32,63 @@ pub fn print_stdout(text: &str) -> Result<(), CliError> {
         _ => Ok(()),
     }
 }
+
+/// Check, before any work, that `path` can take an output: not a directory or another
+/// non-regular file (a device such as /dev/full), not one of the `inputs` (which it would
+/// overwrite), in an existing folder where a file can be created or is writable. A file the
+/// check creates is removed again.
+pub fn check_output_path(path: &Path, inputs: &[&Path]) -> Result<(), CliError> {
+    let refuse = |why: &str| CliError::Output {
+        path: path.to_path_buf(),
+        source: std::io::Error::new(std::io::ErrorKind::InvalidInput, why.to_string()),
+    };
+    if let Ok(meta) = std::fs::metadata(path) {
+        if meta.is_dir() {
+            return Err(refuse("is a directory"));
+        }
+        if !meta.is_file() {
+            return Err(refuse("is not a regular file"));
+        }
+        let target = std::fs::canonicalize(path).ok();
+        if inputs.iter().any(|i| std::fs::canonicalize(i).ok() == target && target.is_some()) {
+            return Err(refuse("is an input of this command (it would be overwritten)"));
+        }
+        std::fs::OpenOptions::new()
+            .append(true)
+            .open(path)
+            .map(drop)
+            .map_err(|source| CliError::Output { path: path.to_path_buf(), source })
+    } else {
+        std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(path)
+            .map_err(|source| CliError::Output { path: path.to_path_buf(), source })?;
+        let _ = std::fs::remove_file(path);
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn outputs_are_checked_before_the_work() {
+        let dir = std::env::temp_dir().join(format!("dualspectra_output_check_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let input = dir.join("in.off");
+        std::fs::write(&input, "OFF\n").unwrap();
+        let fresh = dir.join("new.json");
+        check_output_path(&fresh, &[&input]).unwrap();
+        assert!(!fresh.exists(), "the check leaves no file behind");
+        let err = |p: &Path| check_output_path(p, &[&input]).unwrap_err().to_string();
+        assert!(err(&input).contains("is an input"));
+        assert!(err(&dir).contains("is a directory"));
+        assert!(err(&dir.join("missing").join("x.json")).contains("cannot write"));
+        if Path::new("/dev/full").exists() {
+            assert!(err(Path::new("/dev/full")).contains("not a regular file"));
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

@@ -286,3 +286,51 @@ fn missing_file_and_empty_partial_are_one_line_errors() {
         "--k",
     );
 }
+
+#[test]
+fn bench_locates_two_partials_with_one_prepared_shape_as_localize_does() {
+    // Two parts cut off one figure (the demo's cut and the opposite side): bench prepares the
+    // figure once (its second pair reports no preparation time) and finds the same regions as
+    // two separate `localize` runs.
+    use dualspectra::evaluation::datasets::write_shrec16_pair;
+    use dualspectra::evaluation::synthetic::{synthetic_pair, SyntheticParams};
+    let root = tmp("bench-two");
+    let dataset = root.join("dataset");
+    let mut partials = Vec::new();
+    for (index, offset) in [(1, -0.35), (2, 0.2)] {
+        let pair = synthetic_pair(&SyntheticParams { level: 3, cut_offset: offset, ..SyntheticParams::default() }).unwrap();
+        write_shrec16_pair(&dataset, "figure", index, &pair.full, &pair.partial, &pair.barycentric_gt(), None).unwrap();
+        partials.push(dataset.join("cuts").join(format!("cuts_figure_shape_{index}.off")));
+    }
+    let json = root.join("b.json");
+    run(bin().args(["bench", "--quiet"]).arg(&dataset).args(LIGHT).arg("--json").arg(&json));
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let pairs = v["pairs"].as_array().unwrap();
+    assert_eq!(pairs.len(), 2);
+    assert!(pairs[0]["timings"]["preparation"].as_f64().unwrap() > 0.0);
+    assert!(pairs[1]["timings"]["preparation"].as_f64().unwrap() < 0.5 * pairs[0]["timings"]["preparation"].as_f64().unwrap());
+    for (pair, partial) in pairs.iter().zip(&partials) {
+        assert!(pair["error"].is_null(), "{pair}");
+        let out = root.join(format!("{}.json", pair["name"].as_str().unwrap()));
+        run(bin().args(["localize", "--quiet"]).arg(dataset.join("null").join("figure.off")).arg(partial).args(LIGHT).arg("--json").arg(&out));
+        let one: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+        assert_eq!(one["region"], pair["region"], "{}", pair["name"]);
+    }
+}
+
+#[test]
+fn issue23_outputs_are_checked_before_the_localization() {
+    // An output naming an input, a directory or a device fails at once (exit 5), before any
+    // work, and the input is untouched.
+    let d = demo_dir();
+    let full = d.join("full.off");
+    let before = std::fs::read(&full).unwrap();
+    for (out, needle) in [(full.clone(), "is an input"), (d.to_path_buf(), "is a directory"), ("/dev/full".into(), "not a regular file")] {
+        let t = std::time::Instant::now();
+        let o = bin().args(["localize", "--quiet"]).arg(&full).arg(d.join("partial.off")).arg("--json").arg(&out).output().unwrap();
+        assert_eq!(o.status.code(), Some(5), "{}", String::from_utf8_lossy(&o.stderr));
+        assert!(String::from_utf8_lossy(&o.stderr).contains(needle), "{}", String::from_utf8_lossy(&o.stderr));
+        assert!(t.elapsed().as_secs_f64() < 30.0, "checked before the work");
+    }
+    assert_eq!(std::fs::read(&full).unwrap(), before);
+}

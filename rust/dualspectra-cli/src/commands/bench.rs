@@ -12,7 +12,7 @@
 
 use super::localize::{progress_bar, region_indices, LocalizeOptions};
 use crate::error::CliError;
-use crate::output::{to_json_line, write_text};
+use crate::output::{check_output_path, to_json_line, write_text};
 use dualspectra::evaluation::datasets::{Pair, Shrec16};
 use dualspectra::evaluation::metrics::{self, cumulative_iou, Match, Scores};
 use dualspectra::operators::lumped_mass;
@@ -249,6 +249,9 @@ fn print_row(r: &PairResult) {
 
 pub fn run(args: Args) -> Result<(), CliError> {
     let options = args.options.to_options()?;
+    for out in [&args.json, &args.svg].into_iter().flatten() {
+        check_output_path(out, &[])?;
+    }
     let dataset = Shrec16::open(&args.dataset)?;
     let mut pairs = dataset.pairs()?;
     if let Some(f) = &args.filter {

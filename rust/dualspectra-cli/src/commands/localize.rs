@@ -10,7 +10,7 @@
 
 use crate::error::CliError;
 use crate::input::read_input_mesh;
-use crate::output::{to_json_line, write_text};
+use crate::output::{check_output_path, to_json_line, write_text};
 use dualspectra::localizer::{OptionKind, OPTIONS};
 use dualspectra::{Localization, Localizer, Options, Progress, Timings, TriMesh};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -250,6 +250,9 @@ pub fn repair_warning(what: &str, report: &dualspectra::mesh::io::ReadReport) ->
 
 pub fn run(args: Args) -> Result<(), CliError> {
     let options = args.options.to_options()?;
+    for out in [&args.json, &args.ply].into_iter().flatten() {
+        check_output_path(out, &[&args.full, &args.partial])?;
+    }
     let (full, full_report) = read_input_mesh(&args.full, args.drop_isolated)?;
     let (partial, partial_report) = read_input_mesh(&args.partial, args.drop_isolated)?;
     let (mut loc, seconds) = localize_with_bar(&full, &partial, &options, args.quiet, "localize")?;

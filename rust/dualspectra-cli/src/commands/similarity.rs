@@ -156,6 +156,10 @@ pub fn mds_svg(names: &[String], panels: &[(&str, &Mds)]) -> Result<String, CliE
 }
 
 pub fn run(args: Args) -> Result<(), CliError> {
+    let inputs: Vec<&std::path::Path> = args.meshes.iter().map(|m| m.as_path()).collect();
+    for out in [&args.json, &args.svg].into_iter().flatten() {
+        crate::output::check_output_path(out, &inputs)?;
+    }
     if args.meshes.len() < 2 {
         return Err(CliError::Usage(
             "similarity needs at least two meshes".into(),

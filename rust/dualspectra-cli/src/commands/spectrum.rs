@@ -52,6 +52,9 @@ struct Output<'a> {
 }
 
 pub fn run(args: Args) -> Result<(), CliError> {
+    if let Some(out) = &args.json {
+        crate::output::check_output_path(out, &[&args.mesh])?;
+    }
     let alpha = match (args.metric, args.alpha) {
         (MetricArg::Regular, Some(_)) => {
             return Err(CliError::Usage("--alpha applies only to --metric si".into()));
