@@ -1,34 +1,46 @@
 """One localization run, in the foreground or on a worker thread; free of ``bpy``.
 
-``dualspectra.localize`` releases the GIL while it computes, so a Python thread running
-it leaves Blender's interface responsive. The thread only touches this object: the
-latest progress report, a cancel flag that the progress callback turns into ``False``
-(which makes the library stop and raise ``dualspectra.Cancelled``), and the outcome.
-The operator's modal timer polls it; nothing here calls Blender.
+A run has two phases: preparing the full shape (``dualspectra.Localizer``, skipped when a
+prepared one is given) and locating the partial on it (``Localizer.locate``). Both release
+the GIL while they compute, so a Python thread running them leaves Blender's interface
+responsive. The thread only touches this object: the latest progress report, a cancel flag
+that the progress callback turns into ``False`` (which makes the library stop and raise
+``dualspectra.Cancelled``), and the outcome. The operator's modal timer polls it; nothing
+here calls Blender.
 """
 
 import threading
 import time
 
+#: Share of the progress bar given to preparing the full shape when it is not reused.
+PREPARATION_SHARE = 0.1
+
 
 class LocalizeJob:
-    """Run ``module.localize(full_v, full_f, partial_v, partial_f, **options)`` once.
+    """Locate ``(partial_vertices, partial_faces)`` on the full shape once.
 
-    ``module`` is the imported ``dualspectra`` package (its ``localize`` and
-    ``Cancelled``). After the run exactly one of ``result`` (the Localization),
-    ``cancelled`` (True) or ``error`` (the exception) is set. ``on_progress(fraction,
-    stage)``, if given, is called after each report from the running thread (for a
-    foreground run, to update Blender's progress cursor). ``time_limit`` (seconds) cancels
-    the run at the first report after it and sets :attr:`timed_out`.
+    ``module`` is the imported ``dualspectra`` package. ``localizer`` is a prepared
+    ``module.Localizer`` to reuse, or ``None`` to prepare one from ``full_vertices``,
+    ``full_faces`` and ``options`` (then kept in :attr:`localizer`, also when locating
+    fails, so that the caller can keep it).
+
+    After the run exactly one of ``result`` (the Localization), ``cancelled`` (True) or
+    ``error`` (the exception) is set; :attr:`phase` says which phase ended the run
+    (``"full"``: preparing the full shape, ``"partial"``: locating the partial), so that an
+    error can name its mesh. ``on_progress(fraction, stage)``, if given, is called after each
+    report from the running thread (for a foreground run, to update Blender's progress
+    cursor). ``time_limit`` (seconds) cancels the run at the first report after it and sets
+    :attr:`timed_out`.
     """
 
-    def __init__(self, module, full_vertices, full_faces, partial_vertices, partial_faces, on_progress=None,
-                 time_limit=None, **options):
+    def __init__(self, module, full_vertices, full_faces, partial_vertices, partial_faces, options, localizer=None,
+                 on_progress=None, time_limit=None):
         self._module = module
         self._time_limit = time_limit if time_limit else None
         self._on_progress = on_progress
-        self._args = (full_vertices, full_faces, partial_vertices, partial_faces)
-        self._options = options
+        self._full = (full_vertices, full_faces)
+        self._partial = (partial_vertices, partial_faces)
+        self._options = dict(options)
         self._cancel = threading.Event()
         self._done = threading.Event()
         self._lock = threading.Lock()
@@ -36,6 +48,9 @@ class LocalizeJob:
         self._fraction = 0.0
         self._stage = "starting"
         self._reports = 0
+        self.localizer = localizer
+        self.reused = localizer is not None
+        self.phase = "full"
         self.started_at = None
         self.finished_at = None
         self.result = None
@@ -44,17 +59,21 @@ class LocalizeJob:
         self.timed_out = False
 
     # -- progress, called by the library from the running thread --------------------------
-    def _progress(self, fraction, stage):
-        with self._lock:
-            self._fraction = min(max(float(fraction), 0.0), 1.0)
-            self._stage = str(stage)
-            self._reports += 1
-        if self._on_progress is not None:
-            self._on_progress(self._fraction, self._stage)
-        if self._time_limit is not None and time.monotonic() - self.started_at > self._time_limit:
-            self.timed_out = True
-            self._cancel.set()
-        return not self._cancel.is_set()
+    def _reporter(self, lo, hi):
+        def report(fraction, stage):
+            with self._lock:
+                self._fraction = lo + (hi - lo) * min(max(float(fraction), 0.0), 1.0)
+                self._stage = str(stage)
+                self._reports += 1
+                now = self._fraction, self._stage
+            if self._on_progress is not None:
+                self._on_progress(*now)
+            if self._time_limit is not None and time.monotonic() - self.started_at > self._time_limit:
+                self.timed_out = True
+                self._cancel.set()
+            return not self._cancel.is_set()
+
+        return report
 
     def progress(self):
         """``(fraction in [0, 1], stage name, number of reports so far)``."""
@@ -66,7 +85,13 @@ class LocalizeJob:
         """Run in the calling thread; returns when finished, cancelled or failed."""
         self.started_at = time.monotonic()
         try:
-            self.result = self._module.localize(*self._args, progress=self._progress, **self._options)
+            split = 0.0
+            if self.localizer is None:
+                split = PREPARATION_SHARE
+                self.localizer = self._module.Localizer(
+                    *self._full, progress=self._reporter(0.0, split), **self._options)
+            self.phase = "partial"
+            self.result = self.localizer.locate(*self._partial, progress=self._reporter(split, 1.0))
         except self._module.Cancelled:
             self.cancelled = True
         except BaseException as exc:  # reported to the user by the operator, never lost
@@ -76,7 +101,7 @@ class LocalizeJob:
                 self.error = exc
         finally:
             self.finished_at = time.monotonic()
-            self._args = None  # free the arrays
+            self._full = self._partial = None  # free the arrays
             self._done.set()
 
     def start(self):

@@ -60,12 +60,21 @@ def load():
             f"and in Python {sys.version.split()[0]}'s sys.path"
         )
         raise ImportError(_error) from exc
-    for name in ("localize", "Cancelled", "MeshError"):
+    for name in ("Localizer", "options_schema", "Cancelled", "MeshError"):
         if not hasattr(module, name):
             _error = f"the dualspectra module at {getattr(module, '__file__', '?')} has no '{name}'"
             raise ImportError(_error)
     _module = module
     return module
+
+
+def options_schema():
+    """The library's options table (``dualspectra.options_schema()``), or ``[]`` when the
+    library cannot be loaded (the add-on still registers; running it reports the error)."""
+    try:
+        return load().options_schema()
+    except ImportError:
+        return []
 
 
 def status():

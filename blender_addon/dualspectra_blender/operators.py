@@ -3,12 +3,21 @@
 Read, check, write (glTF-Blender-IO's operator habit):
 
 * read: both objects' evaluated meshes (modifiers applied), triangulated with
-  ``loop_triangles``, in world space (``matrix_world @ co``), via ``mesh_data``;
+  ``loop_triangles``, in world space (``matrix_world @ co``), via ``mesh_data``; the arrays
+  go to the library as they are (its intake leaves out degenerate triangles and loose
+  vertices, maps every result back to these vertices and says what it left out: reported
+  as warnings);
 * check: errors become ``self.report({'ERROR'}, ...)`` and ``{'CANCELLED'}``;
 * write: the region's vertices, and the edges and faces between them, are selected on
   the active object; the soft score is stored as the point attribute
   ``dualspectra_score``, the region as ``dualspectra_region`` and a colour ramp of the
   score as the colour attribute ``dualspectra_color``. One undo step.
+
+The library's options (``dualspectra.options_schema()``) become the operator's properties
+when the add-on registers (:func:`operator_class`): labels, defaults, ranges and tooltips
+are the library's. The prepared full shape (``dualspectra.Localizer``) is kept per full
+object while its world-space mesh and the options are unchanged (``cache.py``), so
+locating several parts on one model prepares it once.
 
 ``invoke`` (a click in the interface) runs the localizer on a worker thread and polls it
 from a modal timer: progress in the status bar and the window manager's progress
@@ -18,16 +27,11 @@ the foreground: there is no event loop for modal timers without a window.
 
 import bpy
 import numpy as np
-from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, StringProperty
+from bpy.app.handlers import persistent
+from bpy.props import BoolProperty, FloatProperty, StringProperty
 
-from . import library, mesh_data
+from . import cache, library, mesh_data, schema
 from .job import LocalizeJob
-
-MODES = (
-    ('DUAL', "Dual", "k Laplace-Beltrami + k scale-invariant eigenvalues (the paper's method)"),
-    ('LBO', "LBO", "2k Laplace-Beltrami eigenvalues only"),
-    ('SI', "Scale-invariant", "2k scale-invariant eigenvalues only"),
-)
 
 SCORE_ATTRIBUTE = "dualspectra_score"
 REGION_ATTRIBUTE = "dualspectra_region"
@@ -84,8 +88,9 @@ def _mesh_arrays(mesh):
 
 
 def read_object(context, ob, use_modifiers):
-    """World-space :class:`mesh_data.TriangleMesh` of ``ob`` and, if a modifier changed the
-    vertex count, the map from the original vertices to the evaluated ones (else ``None``)."""
+    """World-space positions ``(n, 3)`` and triangles ``(m, 3)`` of ``ob`` and, if a modifier
+    changed the vertex count, the map from the original vertices to the evaluated ones (else
+    ``None``)."""
     if ob.mode == 'EDIT':
         ob.update_from_editmode()
     if use_modifiers:
@@ -101,15 +106,27 @@ def read_object(context, ob, use_modifiers):
         local, tris = _mesh_arrays(ob.data)
         matrix = np.array(ob.matrix_world, dtype=np.float64)
     world = mesh_data.world_positions(local, matrix)
-    tri_mesh = mesh_data.triangle_mesh(world, tris, name=ob.name)
     original_to_evaluated = None
     n_original = len(ob.data.vertices)
     if len(world) != n_original:
+        if len(world) == 0:
+            raise UserError(f"'{ob.name}' has no vertices after its modifiers")
         co = np.empty(n_original * 3, dtype=np.float32)
         ob.data.vertices.foreach_get("co", co)
         original_world = mesh_data.world_positions(co.reshape(-1, 3), np.array(ob.matrix_world, dtype=np.float64))
         original_to_evaluated = mesh_data.nearest_indices(original_world, world)
-    return tri_mesh, original_to_evaluated
+    return world, tris, original_to_evaluated
+
+
+def cache_key(ob):
+    """The key of ``ob``'s prepared shape: its session id (kept across renames), else its name."""
+    return getattr(ob, "session_uid", None) or ob.name_full
+
+
+@persistent
+def clear_cache(*_args):
+    """Forget every prepared shape (a ``load_pre`` handler: objects of another file)."""
+    cache.CACHE.clear()
 
 
 # -- writing ---------------------------------------------------------------------------------------
@@ -160,58 +177,15 @@ def write_result(mesh, region, score):
 
 # -- the operator ----------------------------------------------------------------------------------
 
-class DUALSPECTRA_OT_localize(bpy.types.Operator):
+class LocalizeOperator:
     """Find the region of the active mesh that the partial mesh is, and select it"""
 
     bl_idname = "dualspectra.localize"
     bl_label = "Localize Partial Shape"
     bl_options = {'REGISTER', 'UNDO'}
 
-    partial_object: StringProperty(
-        name="Partial",
-        description="Mesh object that is a (deformed) part of the active object. "
-        "Empty: the panel's choice, else the other selected mesh",
-    )
-    mode: EnumProperty(name="Mode", items=MODES, default='DUAL')
-    k: IntProperty(name="k", description="Eigenvalues per spectrum", default=20, min=1, max=200, soft_max=60)
-    alpha: FloatProperty(name="Alpha", description="Exponent of the scale-invariant metric", default=0.33, min=0.0, max=1.0)
-    seed: IntProperty(name="Seed", description="Seed of every random choice", default=0, min=0)
-    centers: IntProperty(
-        name="Start Centres",
-        description="Farthest-point centres of the starts, 3 starts each (0: library default, 4)",
-        default=0, min=0, soft_max=20,
-    )
-    max_iterations: IntProperty(
-        name="Iterations",
-        description="Trust-region iterations per start (0: library default, 25)",
-        default=0, min=0, soft_max=200,
-    )
-    spectral_cuts: IntProperty(
-        name="Spectral Cuts",
-        description="Further starts from the full shape's first N eigenfunctions, 2 each: the region on either "
-        "side of a level set with the partial's area (for a part cut across a natural axis, e.g. a half body; "
-        "0: none)",
-        default=0, min=0, soft_max=8,
-    )
-    plane_cuts: IntProperty(
-        name="Plane Cuts",
-        description="Further starts, one per direction: the side of a plane with the partial's area, normal to the "
-        "first N of 26 directions (6: both ways along the principal axes; 14: and the diagonals; 0: none; "
-        "-1: library default, 6)",
-        default=-1, min=-1, soft_max=26,
-    )
-    time_limit: FloatProperty(
-        name="Time Limit",
-        description="Stop with an error after this many seconds (0: no limit)",
-        default=0.0, min=0.0, subtype='TIME', unit='TIME_ABSOLUTE',
-    )
-    use_modifiers: BoolProperty(name="Use Modifiers", description="Use the evaluated meshes (modifiers applied)", default=True)
-    background: BoolProperty(
-        name="Run in Background",
-        description="When started from the interface, compute on a worker thread (Esc cancels)",
-        default=True,
-        options={'SKIP_SAVE'},
-    )
+    #: The library's options table this class was built from (set by :func:`operator_class`).
+    options_schema = ()
 
     @classmethod
     def poll(cls, context):
@@ -225,60 +199,43 @@ class DUALSPECTRA_OT_localize(bpy.types.Operator):
     def draw(self, context):
         layout = self.layout
         layout.prop_search(self, "partial_object", bpy.data, "objects")
-        layout.prop(self, "mode")
-        layout.prop(self, "k")
-        layout.prop(self, "alpha")
-        layout.prop(self, "seed")
-        layout.prop(self, "centers")
-        layout.prop(self, "max_iterations")
-        layout.prop(self, "spectral_cuts")
-        layout.prop(self, "plane_cuts")
+        for spec in self.options_schema:
+            layout.prop(self, spec["name"])
         layout.prop(self, "time_limit")
         layout.prop(self, "use_modifiers")
 
-    # read and check; returns the job (not started) or raises UserError / ImportError / MeshDataError
+    # read and check; returns the job (not started) or raises UserError / ImportError
     def _prepare(self, context, on_progress):
         module = library.load()
         full = context.active_object
         partial = resolve_partial(context, self.partial_object)
         self.partial_object = partial.name  # the redo panel repeats the same pair
-        full_mesh, original_to_evaluated = read_object(context, full, self.use_modifiers)
-        partial_mesh, _ = read_object(context, partial, self.use_modifiers)
+        full_v, full_f, original_to_evaluated = read_object(context, full, self.use_modifiers)
+        part_v, part_f, _ = read_object(context, partial, self.use_modifiers)
+        options = schema.option_values(self, self.options_schema)
         self._full_name = full.name
+        self._partial_name = partial.name
         self._n_original = len(full.data.vertices)
-        self._full_mesh = full_mesh
         self._original_to_evaluated = original_to_evaluated
-        # Optional tuning, passed only when set so the library's defaults apply otherwise.
-        tuning = {
-            name: getattr(self, name)
-            for name in ("centers", "max_iterations", "spectral_cuts")
-            if getattr(self, name) > 0
-        }
-        if self.plane_cuts >= 0:  # 0 is meaningful here (no plane cuts); -1 is the default
-            tuning["plane_cuts"] = self.plane_cuts
+        self._cache_key = cache_key(full)
+        self._fingerprint = cache.fingerprint(full_v, full_f, options)
         return LocalizeJob(
-            module,
-            full_mesh.vertices,
-            full_mesh.faces,
-            partial_mesh.vertices,
-            partial_mesh.faces,
+            module, full_v, full_f, part_v, part_f, options,
+            localizer=cache.CACHE.get(self._cache_key, self._fingerprint),
             on_progress=on_progress,
             time_limit=self.time_limit,
-            mode=self.mode.lower(),
-            k=self.k,
-            alpha=self.alpha,
-            seed=self.seed,
-            **tuning,
         )
 
     def _start(self, context, on_progress=None):
         try:
             return self._prepare(context, on_progress)
-        except (UserError, mesh_data.MeshDataError, ImportError) as exc:
+        except (UserError, ImportError) as exc:
             self.report({'ERROR'}, str(exc))
             return None
 
     def _finish(self, context, job):
+        if job.localizer is not None and not job.reused:
+            cache.CACHE.put(self._cache_key, self._fingerprint, job.localizer)
         if job.timed_out:
             self.report({'ERROR'}, f"Localization stopped: time limit of {self.time_limit:g} s exceeded")
             return {'CANCELLED'}
@@ -287,15 +244,16 @@ class DUALSPECTRA_OT_localize(bpy.types.Operator):
             return {'CANCELLED'}
         if job.error is not None:
             exc = job.error
-            self.report({'ERROR'}, f"Localization failed: {type(exc).__name__}: {exc}")
+            name = self._full_name if job.phase == "full" else self._partial_name
+            self.report({'ERROR'}, f"Localization failed on '{name}': {type(exc).__name__}: {exc}")
             return {'CANCELLED'}
         result = job.result
         full = bpy.data.objects.get(self._full_name)
         if full is None or full.type != 'MESH' or len(full.data.vertices) != self._n_original:
             self.report({'ERROR'}, f"'{self._full_name}' was deleted or edited during the localization; nothing written")
             return {'CANCELLED'}
-        region = self._full_mesh.to_source(np.asarray(result.region, dtype=bool), False)
-        score = self._full_mesh.to_source(np.asarray(result.score, dtype=np.float64), 0.0)
+        region = np.asarray(result.region, dtype=bool)
+        score = np.asarray(result.score, dtype=np.float64)
         if self._original_to_evaluated is not None:
             region = region[self._original_to_evaluated]
             score = score[self._original_to_evaluated]
@@ -305,10 +263,13 @@ class DUALSPECTRA_OT_localize(bpy.types.Operator):
         write_result(full.data, region, score)
         if in_edit_mode:
             bpy.ops.object.mode_set(mode='EDIT')
+        for warning in result.warnings:
+            self.report({'WARNING'}, warning)
+        prepared = "prepared shape reused" if job.reused else f"shape prepared in {job.localizer.preparation_seconds:.2f} s"
         self.report(
             {'INFO'},
             f"Selected {int(region.sum())} of {len(region)} vertices of '{full.name}' "
-            f"(cost {float(result.cost):.3g}, {job.elapsed:.1f} s)",
+            f"(cost {float(result.cost):.3g}, {job.elapsed:.1f} s, {prepared})",
         )
         return {'FINISHED'}
 
@@ -374,4 +335,45 @@ class DUALSPECTRA_OT_localize(bpy.types.Operator):
         self._cleanup(context)
 
 
-classes = (DUALSPECTRA_OT_localize,)
+def own_properties():
+    """The operator's properties that are not library options."""
+    return {
+        "partial_object": StringProperty(
+            name="Partial",
+            description="Mesh object that is a (deformed) part of the active object. "
+            "Empty: the panel's choice, else the other selected mesh",
+        ),
+        "time_limit": FloatProperty(
+            name="Time Limit",
+            description="Stop with an error after this many seconds (0: no limit)",
+            default=0.0, min=0.0, subtype='TIME', unit='TIME_ABSOLUTE',
+        ),
+        "use_modifiers": BoolProperty(name="Use Modifiers", description="Use the evaluated meshes (modifiers applied)", default=True),
+        "background": BoolProperty(
+            name="Run in Background",
+            description="When started from the interface, compute on a worker thread (Esc cancels)",
+            default=True,
+            options={'SKIP_SAVE'},
+        ),
+    }
+
+
+def option_properties(options_schema):
+    """One ``bpy.props`` property per library option (``schema.property_definitions``)."""
+    return {name: getattr(bpy.props, kind)(**kwargs) for name, kind, kwargs in schema.property_definitions(options_schema)}
+
+
+def operator_class(options_schema):
+    """The operator class with the library's options as properties (Blender reads a class's
+    properties from its annotations when it is registered, so the class is made here)."""
+    annotations = own_properties()
+    clash = sorted({spec["name"] for spec in options_schema} & set(annotations))
+    if clash:
+        raise ValueError(f"library options {clash} clash with the operator's own properties")
+    annotations.update(option_properties(options_schema))
+    return type("DUALSPECTRA_OT_localize", (LocalizeOperator, bpy.types.Operator), {
+        "__annotations__": annotations,
+        "__doc__": LocalizeOperator.__doc__,
+        "__module__": __name__,
+        "options_schema": tuple(options_schema),
+    })

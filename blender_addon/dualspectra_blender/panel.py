@@ -1,27 +1,37 @@
-"""The sidebar panel (3D View > Sidebar > DualSpectra) and its scene settings."""
+"""The sidebar panel (3D View > Sidebar > DualSpectra) and its scene settings.
+
+The settings hold the partial object and one property per library option, made from the
+same table as the operator's (:func:`settings_class`); the button passes all of them on.
+"""
 
 import bpy
-from bpy.props import EnumProperty, IntProperty, PointerProperty
+from bpy.props import PointerProperty
 
 from . import library
-from .operators import MODES, DUALSPECTRA_OT_localize, default_partial
+from .operators import LocalizeOperator, default_partial, option_properties
 
 
 def _is_mesh(_settings, ob):
     return ob.type == 'MESH'
 
 
-class DualSpectraSettings(bpy.types.PropertyGroup):
-    """Per-scene choices shown in the panel and passed to the operator."""
-
-    partial: PointerProperty(
-        name="Partial",
-        type=bpy.types.Object,
-        poll=_is_mesh,
-        description="Mesh object that is a (deformed) part of the active object. Empty: the other selected mesh",
-    )
-    mode: EnumProperty(name="Mode", items=MODES, default='DUAL')
-    k: IntProperty(name="k", description="Eigenvalues per spectrum", default=20, min=1, max=200, soft_max=60)
+def settings_class(options_schema):
+    """The per-scene settings group with the library's options as properties."""
+    annotations = {
+        "partial": PointerProperty(
+            name="Partial",
+            type=bpy.types.Object,
+            poll=_is_mesh,
+            description="Mesh object that is a (deformed) part of the active object. Empty: the other selected mesh",
+        ),
+    }
+    annotations.update(option_properties(options_schema))
+    return type("DualSpectraSettings", (bpy.types.PropertyGroup,), {
+        "__annotations__": annotations,
+        "__doc__": "Per-scene choices shown in the panel and passed to the operator.",
+        "__module__": __name__,
+        "options_schema": tuple(options_schema),
+    })
 
 
 class VIEW3D_PT_dualspectra(bpy.types.Panel):
@@ -48,15 +58,13 @@ class VIEW3D_PT_dualspectra(bpy.types.Panel):
             other = default_partial(context)
             col.label(text=f"Using selected: {other.name}" if other is not None else "Select one other mesh, or pick it above",
                       icon='INFO')
-        col.prop(settings, "mode")
-        col.prop(settings, "k")
+        names = [spec["name"] for spec in settings.options_schema]
+        for name in names:
+            col.prop(settings, name)
 
         row = layout.row()
         row.scale_y = 1.4
-        op = row.operator(DUALSPECTRA_OT_localize.bl_idname, icon='VIEWZOOM')
+        op = row.operator(LocalizeOperator.bl_idname, icon='VIEWZOOM')
         op.partial_object = settings.partial.name if settings.partial is not None else ""
-        op.mode = settings.mode
-        op.k = settings.k
-
-
-classes = (DualSpectraSettings, VIEW3D_PT_dualspectra)
+        for name in names:
+            setattr(op, name, getattr(settings, name))

@@ -10,14 +10,23 @@ extension archive (the bundled wheel is installed by Blender). Then the test bui
 meshes, a lumpy closed surface and a part of it cut by a plane moved by a rigid motion,
 gives both objects different transforms (non-uniform object scale included, the world
 shapes unchanged), runs the operator and checks the selected vertices against the cut.
+Also: the option properties are the library's table (``dualspectra.options_schema()``);
+a second part located on the same object reuses the prepared ``Localizer`` and selects what
+a fresh preparation selects; loose vertices and degenerate faces are the library's to drop
+(reported as a warning, the selection still covers every vertex).
 
 Exit status 1 on any failure (``--python-exit-code 1`` for the Blender binary).
 """
 
 import argparse
+import contextlib
+import ctypes
+import os
 import sys
+import tempfile
 import time
 import traceback
+import warnings
 
 import bpy
 import numpy as np
@@ -73,6 +82,9 @@ ADDON = install_addon()
 mesh_data = sys.modules[ADDON + ".mesh_data"]
 job_module = sys.modules[ADDON + ".job"]
 library = sys.modules[ADDON + ".library"]
+cache_module = sys.modules[ADDON + ".cache"]
+schema_module = sys.modules[ADDON + ".schema"]
+operators = sys.modules[ADDON + ".operators"]
 dualspectra = library.load()
 print(f"Blender {bpy.app.version_string}, Python {sys.version.split()[0]}, add-on {ADDON}, "
       f"dualspectra {getattr(dualspectra, '__version__', '?')} from {dualspectra.__file__}")
@@ -197,23 +209,34 @@ def test_world_positions_match_mathutils():
     assert np.abs(got - want).max() <= 64 * np.finfo(np.float32).eps * scale, np.abs(got - want).max()
 
 
-def test_triangle_mesh_drops_loose_and_degenerate():
-    v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [5, 5, 5], [2, 0, 0], [1, 1, 0]], dtype=float)
-    # triangle 1 is degenerate (collinear 0, 1, 4); vertex 3 is loose
-    f = np.array([[0, 1, 2], [0, 1, 4], [1, 5, 2]])
-    tm = mesh_data.triangle_mesh(v, f, name="t")
-    assert tm.dropped_faces == 1
-    assert tm.kept.tolist() == [0, 1, 2, 5]
-    assert np.array_equal(tm.vertices[tm.faces], v[f[[0, 2]]])
-    back = tm.to_source(np.arange(4) + 1, 0)
-    assert back.tolist() == [1, 2, 3, 0, 0, 4]
-    for bad_f, word in ((np.zeros((0, 3), int), "no faces"), (np.array([[0, 1, 4]]), "degenerate")):
-        try:
-            mesh_data.triangle_mesh(v, bad_f, name="t")
-        except mesh_data.MeshDataError as exc:
-            assert word in str(exc), exc
-        else:
-            raise AssertionError("expected MeshDataError")
+def test_operator_properties_are_the_library_options():
+    """Every option of dualspectra.options_schema() is an operator and a panel-settings property
+    with the library's label, doc, default and range (ints clamped to Blender's 32 bits), and
+    the choices as enum items; nothing else besides the operator's own four."""
+    table = dualspectra.options_schema()
+    assert table, "empty options table"
+    operator_rna = bpy.ops.dualspectra.localize.get_rna_type()
+    for rna in (operator_rna, bpy.context.scene.dualspectra.bl_rna):
+        props = rna.properties
+        for spec in table:
+            p = props[spec["name"]]
+            assert (p.name, p.description) == (spec["label"], spec["doc"]), spec["name"]
+            if spec["type"] == "choice":
+                assert p.type == 'ENUM' and [i.identifier for i in p.enum_items] == spec["choices"]
+                assert p.default == spec["default"]
+            else:
+                assert p.type == {"int": 'INT', "float": 'FLOAT'}[spec["type"]], (spec["name"], p.type)
+                assert np.isclose(p.default, spec["default"], rtol=1e-6), (spec["name"], p.default)
+                assert p.hard_min == max(spec["min"], -2**31) and p.hard_max == min(spec["max"], 2**31 - 1), spec["name"]
+    own = {"rna_type", "partial_object", "time_limit", "use_modifiers", "background"}
+    names = {p.identifier for p in operator_rna.properties}
+    assert names == own | {spec["name"] for spec in table}, names
+    # Values go to the library as it names them; single-precision floats as their decimal.
+    op_like = type("Op", (), {spec["name"]: spec["default"] for spec in table})()
+    op_like.alpha = np.float32(0.33).item()
+    values = schema_module.option_values(op_like, table)
+    assert values["alpha"] == 0.33 and values["mode"] == "dual"
+    dualspectra.Localizer(FULL_V, FULL_F, **dict(values, resolution=0, centers=1))  # accepted as they are
 
 
 def test_nearest_indices_match_brute_force():
@@ -244,17 +267,53 @@ def test_region_helpers_match_blender_topology():
 
 def test_read_object_world_space_and_triangles():
     full, part = scene_pair()
-    operators = sys.modules[ADDON + ".operators"]
-    tm, remap = operators.read_object(bpy.context, part, use_modifiers=True)
+    v, f, remap = operators.read_object(bpy.context, part, use_modifiers=True)
     assert remap is None
-    assert np.abs(tm.vertices - PART_V_MOVED).max() < 1e-5 * np.abs(PART_V_MOVED).max()
-    assert np.array_equal(np.sort(np.sort(tm.faces, axis=1), axis=0), np.sort(np.sort(PART_F, axis=1), axis=0))
+    assert np.abs(v - PART_V_MOVED).max() < 1e-5 * np.abs(PART_V_MOVED).max()
+    assert np.array_equal(np.sort(np.sort(f, axis=1), axis=0), np.sort(np.sort(PART_F, axis=1), axis=0))
     # a topology-changing modifier: results are mapped back to the original vertices
     full.modifiers.new("sub", 'SUBSURF').levels = 1
-    tm, remap = operators.read_object(bpy.context, full, use_modifiers=True)
-    assert len(tm.vertices) > len(FULL_V) and remap is not None and len(remap) == len(FULL_V)
+    v, f, remap = operators.read_object(bpy.context, full, use_modifiers=True)
+    assert len(v) > len(FULL_V) and remap is not None and len(remap) == len(FULL_V)
     # subdivision keeps (smoothed) original vertices first: each maps near itself
-    assert np.linalg.norm(tm.to_source(tm.vertices, np.nan)[remap] - FULL_V, axis=1).max() < 0.1
+    assert np.linalg.norm(v[remap] - FULL_V, axis=1).max() < 0.1
+
+
+def test_fingerprint_follows_mesh_transform_and_options():
+    """The cache key of a prepared shape: equal for the same world mesh and options, different
+    after moving a vertex, moving the object, or changing an option."""
+    full, _ = scene_pair()
+    options = {"k": 10, "mode": "dual", "alpha": 0.33}
+
+    def digest(**changed):
+        v, f, _ = operators.read_object(bpy.context, full, use_modifiers=True)
+        return cache_module.fingerprint(v, f, dict(options, **changed))
+
+    first = digest()
+    assert digest() == first
+    assert digest(k=11) != first and digest(mode="lbo") != first
+    full.data.vertices[5].co.x += 1e-3
+    full.data.update()
+    moved_vertex = digest()
+    assert moved_vertex != first
+    full.location.x += 1.0
+    bpy.context.view_layer.update()
+    assert digest() not in (first, moved_vertex)
+
+
+def test_cache_keeps_the_latest_per_key_and_evicts_the_oldest():
+    c = cache_module.LocalizerCache(capacity=2)
+    c.put("a", "1", "La")
+    assert c.get("a", "1") == "La" and c.get("a", "2") is None and c.get("b", "1") is None
+    c.put("a", "2", "La2")
+    assert c.get("a", "1") is None and c.get("a", "2") == "La2" and len(c) == 1
+    c.put("b", "1", "Lb")
+    c.get("a", "2")  # a is now the most recent
+    c.put("c", "1", "Lc")
+    assert c.get("b", "1") is None and c.get("a", "2") == "La2" and c.get("c", "1") == "Lc"
+    assert (c.builds, c.hits) == (4, 5)
+    c.clear()
+    assert len(c) == 0
 
 
 # ---------------------------------------------------------------------------------------------
@@ -262,11 +321,9 @@ def test_read_object_world_space_and_triangles():
 
 
 def test_job_thread_reports_progress_and_cancels():
-    tm_full = mesh_data.triangle_mesh(FULL_V, FULL_F)
-    tm_part = mesh_data.triangle_mesh(PART_V_MOVED, PART_F)
     seen = []
-    job = job_module.LocalizeJob(dualspectra, tm_full.vertices, tm_full.faces, tm_part.vertices, tm_part.faces,
-                                 on_progress=lambda f, s: seen.append(f), **LIB_OPTIONS)
+    job = job_module.LocalizeJob(dualspectra, FULL_V, FULL_F, PART_V_MOVED, PART_F, LIB_OPTIONS,
+                                 on_progress=lambda f, s: seen.append(f))
     job.start()
     t0 = time.monotonic()
     while job.progress()[2] == 0 and not job.done and time.monotonic() - t0 < 120:
@@ -276,6 +333,21 @@ def test_job_thread_reports_progress_and_cancels():
     assert job.wait(120), "worker did not stop within 120 s of the cancel request"
     assert job.cancelled and job.result is None and job.error is None, (job.cancelled, job.error)
     assert seen and all(0.0 <= f <= 1.0 for f in seen), seen
+
+
+def test_job_reuses_a_given_localizer():
+    """With a prepared Localizer the job only locates (its progress spans the whole bar) and
+    gives what the Localizer gives directly."""
+    options = dict(LIB_OPTIONS, centers=1, plane_cuts=2, max_iterations=10)
+    localizer = dualspectra.Localizer(FULL_V, FULL_F, **options)
+    seen = []
+    job = job_module.LocalizeJob(dualspectra, None, None, PART_V_MOVED, PART_F, options, localizer=localizer,
+                                 on_progress=lambda f, s: seen.append((f, s)))
+    job.run()
+    assert job.error is None and job.reused and job.localizer is localizer and job.phase == "partial", job.error
+    assert seen[0] == (0.0, "preprocessing") and seen[-1][0] == 1.0, seen[:2]
+    direct = localizer.locate(PART_V_MOVED, PART_F)
+    assert np.array_equal(job.result.region, direct.region)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -316,6 +388,97 @@ def test_operator_selects_the_cut_region():
     assert value >= ARGS.min_iou, f"IoU {value:.3f} < {ARGS.min_iou}"
 
 
+@contextlib.contextmanager
+def captured_output():
+    """Collect what Blender prints to file descriptor 1 (its report lines, e.g.
+    ``Warning: ...`` in background mode) into ``out["text"]``."""
+    libc = ctypes.CDLL(None)
+    sys.stdout.flush()
+    libc.fflush(None)
+    saved = os.dup(1)
+    out = {}
+    with tempfile.TemporaryFile() as tmp:
+        os.dup2(tmp.fileno(), 1)
+        try:
+            yield out
+        finally:
+            sys.stdout.flush()
+            libc.fflush(None)
+            os.dup2(saved, 1)
+            os.close(saved)
+            tmp.seek(0)
+            out["text"] = tmp.read().decode("utf-8", "replace")
+            sys.stdout.write(out["text"])
+
+
+def test_loose_vertex_and_degenerate_face_are_left_to_the_library():
+    """The add-on hands Blender's arrays over as they are: a loose vertex and a zero-area
+    triangle (two coincident corners) on new vertices are left out by the library, which says
+    so (reported as a warning), and the selection covers every vertex of the object: the
+    original ones exactly as without the extra elements, the extra ones unselected."""
+    if "selection" not in RESULT:
+        raise Skip("needs test_operator_selects_the_cut_region")
+    n = len(FULL_V)
+    extra_v = np.array([[5.0, 5.0, 5.0], [6.0, 5.0, 5.0], [6.0, 6.0, 5.0], [6.0, 5.0, 5.0]])
+    clear_scene()
+    full = make_object("Full", np.r_[FULL_V, extra_v], np.r_[FULL_F, [[n + 1, n + 2, n + 3]]], FULL_MATRIX)
+    part = make_object("Partial", PART_V_MOVED, PART_F, PART_MATRIX)
+    select_only(full, part, active=full)
+    assert len(full.data.vertices) == n + 4 and len(full.data.polygons) == len(FULL_F) + 1, "Blender kept the extras"
+    with captured_output() as out, warnings.catch_warnings(record=True) as printed:
+        ret, _ = run_localize(partial_object="")
+    assert ret == {'FINISHED'}, ret
+    assert "full mesh: left out 1 degenerate face(s) and 4 vertex(es)" in out["text"], out["text"]
+    # Reported once: the add-on silences the library's Python warning for its own calls only.
+    assert not [w for w in printed if issubclass(w.category, dualspectra.DualspectraWarning)], printed
+    with warnings.catch_warnings(record=True) as printed:
+        warnings.simplefilter("default")
+        dualspectra.Localizer(np.r_[FULL_V, extra_v], np.r_[FULL_F, [[n + 1, n + 2, n + 3]]], resolution=0, centers=1)
+    assert [issubclass(w.category, dualspectra.DualspectraWarning) for w in printed] == [True], printed
+    sel = selected_vertices(full.data)
+    assert len(sel) == n + 4 and not sel[n:].any()
+    assert np.array_equal(sel[:n], RESULT["selection"]), f"differ on {(sel[:n] != RESULT['selection']).sum()} vertices"
+
+
+def test_two_parts_on_one_object_reuse_the_prepared_shape():
+    """Locating a second part on the same full object reuses its prepared Localizer, and each
+    selection is the one a fresh preparation gives."""
+    full, part = scene_pair()
+    other_v, other_f, _ = cut_by_plane(FULL_V, FULL_F, (-0.2, -1.0, 0.3), 0.3)
+    other = make_object("Other", rigid(other_v, (0.3, 0.2, -1.0), (2.0, -3.0, 0.0)), other_f, PART_MATRIX)
+    select_only(full, active=full)
+    cache = cache_module.CACHE
+
+    def locate(ob):
+        builds, hits = cache.builds, cache.hits
+        with captured_output() as out:
+            ret, seconds = run_localize(partial_object=ob.name)
+        assert ret == {'FINISHED'}, ret
+        reused = (cache.builds - builds, cache.hits - hits) == (0, 1)
+        assert reused or (cache.builds - builds, cache.hits - hits) == (1, 0)
+        assert ("prepared shape reused" in out["text"]) == reused, out["text"]
+        print(f"    {ob.name}: {seconds:.1f} s, {'reused' if reused else 'prepared'}")
+        return selected_vertices(full.data), reused
+
+    cache.clear()
+    first_fresh, reused = locate(part)
+    assert not reused
+    other_cached, reused = locate(other)
+    assert reused, "the second part prepared the full shape again"
+    first_cached, reused = locate(part)
+    assert reused
+    cache.clear()
+    other_fresh, reused = locate(other)
+    assert not reused
+    assert np.array_equal(first_cached, first_fresh), f"differ on {(first_cached != first_fresh).sum()} vertices"
+    assert np.array_equal(other_cached, other_fresh), f"differ on {(other_cached != other_fresh).sum()} vertices"
+    assert not np.array_equal(first_fresh, other_fresh), "two different parts gave one selection"
+    # A changed option prepares anew.
+    builds = cache.builds
+    ret, _ = run_localize(partial_object=part.name, **{"plane_cuts": 5})
+    assert ret == {'FINISHED'} and cache.builds == builds + 1
+
+
 def world_arrays(ob):
     """World positions ``matrix_world @ co`` (float32 ``co`` as Blender stores them) and triangles,
     read with the plain bpy API."""
@@ -341,15 +504,12 @@ def test_operator_equals_direct_call_in_world_space():
     assert np.abs(pv - PART_V_MOVED).max() < 1e-5 * np.abs(PART_V_MOVED).max()
     res = dualspectra.localize(fv, ff, pv, pf, mode="dual", alpha=0.33, seed=0, **LIB_OPTIONS)
     direct = np.asarray(res.region, dtype=bool)
-    # Same seed and (to float32) the same inputs: the regions should be identical, yet 2-7 of
-    # 642 boundary vertices were seen to differ (cause not found yet; repeated operator runs
-    # agree exactly, see test_invoke_in_edit_mode_headless), so the law allows 5% off.
+    # Same seed, options and (to float32) inputs: the same region. (2-7 of 642 vertices used to
+    # differ: the operator passed its single-precision alpha, 0.33000001311302185; the add-on
+    # now passes the decimal the property stands for, schema.option_values.)
     diff = int((direct != RESULT["selection"]).sum())
     print(f"    direct call differs on {diff} vertices, IoU {iou(direct, RESULT['selection']):.4f}")
-    # Blender stores positions in float32: the optimisation (many starts, chaotic paths) may
-    # pick a slightly different region than from float64 input. Both are checked against the
-    # ground truth (IoU >= 0.7) elsewhere; here they must largely agree.
-    assert iou(direct, RESULT["selection"]) >= 0.8, f"differ on {diff} vertices"
+    assert diff == 0, f"differ on {diff} vertices"
 
 
 def test_invoke_in_edit_mode_headless():
@@ -426,19 +586,11 @@ def test_error_time_limit():
     assert "dualspectra_score" not in full.data.attributes
 
 
-def test_spectral_cuts_reach_the_library():
-    """The Spectral Cuts property is passed to the library: above the library's bound (50) the
-    operator reports the library's error (with the default 0 the argument is not passed)."""
+def test_options_reach_the_library():
+    """The option properties are passed to the library, which checks what Blender's ranges
+    cannot express: resolution 50 is inside 0..200000 but too coarse (0 or at least 200)."""
     full, part = scene_pair()
-    expect_operator_error(["spectral_cuts", "50"], partial_object=part.name, spectral_cuts=51, **LIB_OPTIONS)
-    assert "dualspectra_score" not in full.data.attributes
-
-
-def test_plane_cuts_reach_the_library():
-    """The Plane Cuts property is passed to the library (0 included, -1 is its default): above
-    the library's bound (26) the operator reports the library's error."""
-    full, part = scene_pair()
-    expect_operator_error(["plane_cuts = 27 must be at most 26"], partial_object=part.name, plane_cuts=27, **LIB_OPTIONS)
+    expect_operator_error(["resolution = 50 is too coarse"], partial_object=part.name, resolution=50, **OP_OPTIONS)
     assert "dualspectra_score" not in full.data.attributes
 
 
@@ -446,6 +598,27 @@ def test_poll_needs_active_mesh():
     clear_scene()
     bpy.ops.object.empty_add()
     assert not bpy.ops.dualspectra.localize.poll()
+
+
+def test_disable_and_enable_again():
+    """Unregistering removes the operator, the scene settings, the load handler and the warning
+    filter and empties the cache; registering again builds the option properties anew."""
+    import addon_utils
+
+    def quieting_filters():
+        return [f for f in warnings.filters if f[2] is dualspectra.DualspectraWarning and f[0] == "ignore"]
+
+    assert len(quieting_filters()) == 1
+    cache_module.CACHE.put("x", "y", object())
+    addon_utils.disable(ADDON, default_set=True)
+    assert not hasattr(bpy.types, "DUALSPECTRA_OT_localize") and not hasattr(bpy.types.Scene, "dualspectra")
+    assert len(cache_module.CACHE) == 0 and not quieting_filters()
+    assert not any(getattr(h, "__name__", "") == "clear_cache" for h in bpy.app.handlers.load_pre)
+    addon_utils.enable(ADDON, default_set=True)
+    props = bpy.ops.dualspectra.localize.get_rna_type().properties
+    assert all(spec["name"] in props for spec in dualspectra.options_schema())
+    assert sum(getattr(h, "__name__", "") == "clear_cache" for h in bpy.app.handlers.load_pre) == 1
+    assert len(quieting_filters()) == 1
 
 
 # ---------------------------------------------------------------------------------------------

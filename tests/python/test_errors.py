@@ -68,3 +68,21 @@ def test_read_mesh_errors(tmp_path: Path) -> None:
     ok.write_text("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")
     v, f = ds.read_mesh(str(ok))
     assert v.shape == (3, 3) and v.dtype == np.float64 and f.tolist() == [[0, 1, 2]] and f.dtype == np.int64
+    v, f, kept = ds.read_mesh(ok, return_kept=True)
+    assert kept.tolist() == [0, 1, 2] and kept.dtype == np.int64
+
+
+def test_read_mesh_maps_rows_to_file_records(tmp_path: Path) -> None:
+    """A two-sided flap (a triangle and its reverse) is removed with its tip, record 2: the
+    rows of V skip it and ``kept`` says which record each row is."""
+    flap = tmp_path / "flap.off"
+    flap.write_text(
+        "OFF\n5 4 0\n0 0 0\n1 0 0\n0.5 -1 0\n1 1 0\n0 1 0\n"
+        "3 0 1 3\n3 0 3 4\n3 0 2 1\n3 1 2 0\n"
+    )
+    v, f, kept = ds.read_mesh(flap, return_kept=True)
+    assert kept.tolist() == [0, 1, 3, 4]
+    assert v.tolist() == [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]
+    assert kept[f].tolist() == [[0, 1, 3], [0, 3, 4]], "faces in row numbering, records through kept"
+    v2, f2 = ds.read_mesh(flap)
+    assert np.array_equal(v2, v) and np.array_equal(f2, f)

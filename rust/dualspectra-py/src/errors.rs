@@ -7,6 +7,9 @@
 //! | `Io`                               | `OSError` (errno subclass, e.g. `FileNotFoundError`) |
 //! | `Numerical`                        | `dualspectra.NumericalError` (a `RuntimeError`) |
 //! | `Cancelled`                        | `dualspectra.Cancelled`, or the exception the progress callback raised (e.g. `KeyboardInterrupt`) |
+//!
+//! A mesh the intake refuses (`intake_error`) is a `MeshError` naming the mesh, whatever the
+//! core's variant ("all faces are degenerate" is an `InvalidArgument` there).
 
 use dualspectra::{Error, MeshError as CoreMeshError};
 use pyo3::exceptions::{PyException, PyOSError, PyRuntimeError, PyValueError};
@@ -61,4 +64,14 @@ pub fn mesh_error(what: &str, err: CoreMeshError) -> PyErr {
 /// A mesh array problem that the core cannot represent (wrong shape, negative index).
 pub fn mesh_array_error(what: &str, message: String) -> PyErr {
     MeshError::new_err(format!("{what}: {message}"))
+}
+
+/// An error of the core's mesh intake for the mesh `what` (e.g. `"full mesh"`): a `MeshError`
+/// naming it.
+pub fn intake_error(what: &str, err: Error) -> PyErr {
+    match err {
+        Error::InvalidMesh(e) => mesh_error(what, e),
+        Error::InvalidArgument(msg) => MeshError::new_err(format!("{what}: {msg}")),
+        other => to_py(other),
+    }
 }

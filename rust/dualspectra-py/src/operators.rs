@@ -4,6 +4,7 @@
 use crate::convert::trimesh;
 use crate::errors::to_py;
 use dualspectra::geometry::metric::DEFAULT_EPS;
+use dualspectra::mesh::io::ReadOptions;
 use dualspectra::shape::{Metric, Shape};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray2};
@@ -89,16 +90,24 @@ pub fn spectrum<'py>(
     Ok(PyArray1::from_vec(py, values))
 }
 
-/// Read a mesh file (format from the extension) into `(V (n, 3) float64, F (m, 3) int64)`.
+/// Read a mesh file (format from the extension) into `(V (n, 3) float64, F (m, 3) int64,
+/// kept (n,) int64)`: `kept[i]` is the file's vertex record of row `i` (reading drops the tip
+/// vertices of two-sided flaps, see `dualspectra::mesh::io`; the identity otherwise).
 #[pyfunction]
 #[allow(clippy::type_complexity)]
-pub fn read_mesh<'py>(py: Python<'py>, path: PathBuf) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<i64>>)> {
-    let mesh = py.detach(|| dualspectra::mesh::io::read_mesh(&path)).map_err(to_py)?;
+pub fn read_mesh<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<i64>>, Bound<'py, PyArray1<i64>>)> {
+    let (mesh, report) = py
+        .detach(|| dualspectra::mesh::io::read_mesh_with_report(&path, &ReadOptions::default()))
+        .map_err(to_py)?;
     let (v, f) = mesh.into_parts();
     let (n, m) = (v.len(), f.len());
     let v = Array2::from_shape_vec((n, 3), v.into_iter().flatten().collect()).map_err(shape_err)?;
     let f = Array2::from_shape_vec((m, 3), f.into_iter().flatten().map(i64::from).collect()).map_err(shape_err)?;
-    Ok((v.into_pyarray(py), f.into_pyarray(py)))
+    let kept = report.kept_vertices.into_iter().map(i64::from).collect();
+    Ok((v.into_pyarray(py), f.into_pyarray(py), PyArray1::from_vec(py, kept)))
 }
 
 fn shape_err(e: numpy::ndarray::ShapeError) -> PyErr {

@@ -79,6 +79,8 @@ impl Progress {
 
     /// Report `fraction` (0..1 of this handle's range) of `stage`; `Err(Cancelled)` if asked to stop.
     pub fn report(&self, fraction: f64, stage: &str) -> Result<()> {
+        // Once cancelled, the callback is not called again.
+        self.check()?;
         let f = fraction.clamp(0.0, 1.0);
         if let Some(cb) = &self.callback {
             let overall = self.lo + (self.hi - self.lo) * f;
@@ -96,5 +98,22 @@ impl Progress {
         } else {
             Ok(())
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::atomic::AtomicUsize;
+
+    #[test]
+    fn the_callback_is_not_called_after_it_cancelled() {
+        let calls = Arc::new(AtomicUsize::new(0));
+        let counter = calls.clone();
+        let p = Progress::new(move |_, _| counter.fetch_add(1, Ordering::SeqCst) < 2);
+        assert!(p.report(0.1, "a").is_ok() && p.report(0.2, "b").is_ok());
+        assert!(matches!(p.report(0.3, "c"), Err(Error::Cancelled)));
+        assert!(matches!(p.sub(0.5, 1.0).report(0.4, "d"), Err(Error::Cancelled)));
+        assert_eq!(calls.load(Ordering::SeqCst), 3);
     }
 }

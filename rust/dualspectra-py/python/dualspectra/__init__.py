@@ -1,31 +1,49 @@
 """Partial shape localization by multi-metric Hamiltonian spectra matching.
 
 Given a full triangle mesh M and a partial, possibly deformed copy N of a part of it,
-:func:`localize` finds the region of M that N is (Bracha, Halimi, Kimmel: "Partial Shape
-Similarity by Multi-metric Hamiltonian Spectra Matching"). The operators it is built on
-(cotangent stiffness, lumped mass, Gaussian curvature, Dirichlet spectra) are exposed too.
+:class:`Localizer` (prepare M once, locate many partials) and :func:`localize` (one call)
+find the region of M that N is (Bracha, Halimi, Kimmel: "Partial Shape Similarity by
+Multi-metric Hamiltonian Spectra Matching"). The operators it is built on (cotangent
+stiffness, lumped mass, Gaussian curvature, Dirichlet spectra) are exposed too.
 
 Meshes are passed as two array-likes: vertices ``V`` of shape ``(n, 3)`` (anything
 convertible to float64) and faces ``F`` of shape ``(m, 3)`` (integers, 0-based). Every
 computation runs in the Rust core ``dualspectra`` with the GIL released; this module only
-converts arrays.
+converts arrays. The localizer takes meshes as editors hold them: faces that repeat a vertex
+or have zero area, and vertices in no face, are left out (a :class:`DualspectraWarning` and
+:attr:`Localization.warnings` say so), and every per-vertex result is indexed by the
+caller's vertices. The operators need clean meshes (their results are indexed by every
+given vertex) and raise :class:`MeshError` instead.
+
+The localizer's options (``k``, ``mode``, ...) are keyword arguments named as in the core's
+table, :func:`options_schema` (names, types, ranges, defaults, docs); unknown names and
+values out of range raise ``ValueError`` with the core's message.
 
 Errors: :class:`MeshError` (a ``ValueError``) for invalid meshes or mesh files,
 :class:`Cancelled` when a progress callback returns ``False``, :class:`NumericalError`
 (a ``RuntimeError``) when a numerical step fails, ``ValueError`` for bad arguments,
-``OSError`` for unreadable files, ``TypeError`` for arrays of the wrong kind.
+``OSError`` for unreadable files, ``TypeError`` for arrays or values of the wrong kind.
+
+Warnings: what the core repaired or skipped (dropped faces and vertices, a disconnected
+partial reduced to its largest component, a decimation that fell back to the full
+resolution) is kept in :attr:`Localization.warnings` and :attr:`Localizer.warnings`, and
+emitted once through :func:`warnings.warn` as :class:`DualspectraWarning`: by
+:class:`Localizer` for the full mesh and its preparation, by :meth:`Localizer.locate` for
+what concerns that partial, by :func:`localize` for all of them. Silence them with
+``warnings.simplefilter("ignore", dualspectra.DualspectraWarning)``.
 """
 
 from __future__ import annotations
 
 import os
-from typing import TYPE_CHECKING, Any, Callable, Literal, Optional, Tuple, Union
+import warnings
+from typing import TYPE_CHECKING, Any, Callable, Dict, Iterable, List, Literal, Optional, Tuple, Union, final, overload
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _dualspectra
-from ._dualspectra import Cancelled, Localization, MeshError, NumericalError, __version__
+from ._dualspectra import Cancelled, Candidate, Localization, MeshError, NumericalError, __version__
 
 if TYPE_CHECKING:
     from scipy.sparse import csc_matrix  # type: ignore[import-untyped, unused-ignore]
@@ -33,15 +51,20 @@ if TYPE_CHECKING:
 __all__ = [
     "__version__",
     "Cancelled",
+    "Candidate",
+    "DualspectraWarning",
     "Localization",
+    "Localizer",
     "MeshError",
     "NumericalError",
+    "OptionValue",
     "ProgressCallback",
     "cotangent_stiffness",
     "cotangent_stiffness_csc",
     "gaussian_curvature",
     "localize",
     "lumped_mass",
+    "options_schema",
     "read_mesh",
     "spectrum",
 ]
@@ -50,14 +73,44 @@ __all__ = [
 #: name. Return ``False`` to cancel (``None`` or ``True`` to go on).
 ProgressCallback = Callable[[float, str], Optional[bool]]
 
+#: The value of one localizer option: an ``int`` or ``float`` in its range, or a ``str``
+#: (a choice's name, or a number as text).
+OptionValue = Union[int, float, str]
+
 _INDEX_MAX = np.iinfo(np.int64).max
+
+
+class DualspectraWarning(UserWarning):
+    """Something was repaired or skipped: the message says what (see the module doc)."""
+
+
+def options_schema() -> List[Dict[str, Any]]:
+    """The localizer's options as the core defines them, in the order front ends list them.
+
+    One dict per option: ``name`` (the keyword argument), ``label`` (a short title),
+    ``type`` (``"int"``, ``"float"`` or ``"choice"``), ``min`` and ``max`` (numbers) or
+    ``choices`` (names), ``default`` and ``doc``. A new list on each call.
+    """
+    return _dualspectra.options_schema()
+
+
+def _options_doc() -> str:
+    """The options as docstring lines, generated from :func:`options_schema`."""
+    lines = []
+    for spec in options_schema():
+        if spec["type"] == "choice":
+            kind = " | ".join(repr(c) for c in spec["choices"])
+        else:
+            kind = f"{spec['type']} in [{spec['min']}, {spec['max']}]"
+        lines.append(f"            {spec['name']} ({kind}, default {spec['default']!r}): {spec['doc']}")
+    return "\n".join(lines)
 
 
 def _mesh_arrays(vertices: ArrayLike, faces: ArrayLike, what: str = "mesh") -> Tuple[NDArray[np.float64], NDArray[np.int64]]:
     """Contiguous float64 ``(n, 3)`` and int64 ``(m, 3)`` copies (or views) of the inputs.
 
     Shapes and kinds are checked here for clear messages; index ranges, finiteness and
-    the mesh invariants are checked by the core (``TriMesh::new``).
+    the mesh invariants are checked by the core.
     """
     v = np.asarray(vertices)
     if v.ndim != 2 or v.shape[1] != 3:
@@ -74,69 +127,147 @@ def _mesh_arrays(vertices: ArrayLike, faces: ArrayLike, what: str = "mesh") -> T
     return np.ascontiguousarray(v, dtype=np.float64), np.ascontiguousarray(f, dtype=np.int64)
 
 
+def _check_progress(progress: Optional[ProgressCallback]) -> None:
+    if progress is not None and not callable(progress):
+        raise TypeError("progress must be callable as progress(fraction, stage)")
+
+
+def _warn(messages: Iterable[str]) -> None:
+    """Emit each message as a :class:`DualspectraWarning` at the public function's caller."""
+    for message in messages:
+        warnings.warn(message, DualspectraWarning, stacklevel=3)
+
+
+@final
+class Localizer:
+    """A full shape prepared once for locating partial shapes on it.
+
+    Preparing (the constructor) computes what depends on the full shape alone: its scale,
+    the decimated optimisation mesh, the scale-invariant metric, descriptors, start centres
+    and one symbolic factorization. :meth:`locate` then runs the matching for one partial.
+    Both release the GIL; :meth:`locate` may be called from several threads at once on one
+    ``Localizer``. ``localize(V, F, P, G, **options)`` is
+    ``Localizer(V, F, **options).locate(P, G)`` in one call.
+
+    Args:
+        vertices, faces: the full shape M, ``(n, 3)`` and ``(m, 3)``. Degenerate faces and
+            vertices in no face are left out (with a warning); results are still indexed by
+            these ``n`` vertices.
+        progress: optional ``callback(fraction, stage)`` for the preparation; returning
+            ``False`` cancels (:class:`Cancelled`), an exception it raises (or Ctrl-C) is
+            re-raised.
+        **options: the core's options by name (``ValueError`` for an unknown name or a value
+            out of range; see :func:`options_schema`):
+
+{options}
+
+    Raises:
+        MeshError: the full mesh is invalid (index out of range, non-finite coordinate,
+        non-manifold edge, no usable face). Cancelled: the callback returned ``False``.
+    """
+
+    __slots__ = ("_native",)
+
+    def __init__(
+        self,
+        vertices: ArrayLike,
+        faces: ArrayLike,
+        *,
+        progress: Optional[ProgressCallback] = None,
+        **options: OptionValue,
+    ) -> None:
+        v, f = _mesh_arrays(vertices, faces, "full mesh")
+        _check_progress(progress)
+        self._native = _dualspectra.Localizer(v, f, options, progress)
+        _warn(self._native.warnings)
+
+    def locate(
+        self,
+        partial_vertices: ArrayLike,
+        partial_faces: ArrayLike,
+        *,
+        progress: Optional[ProgressCallback] = None,
+    ) -> Localization:
+        """Find the region of the full shape that the partial mesh ``(P, G)`` is.
+
+        Args:
+            partial_vertices, partial_faces: the partial shape N, ``(p, 3)`` and ``(q, 3)``
+                (degenerate faces and loose vertices are left out, with a warning).
+            progress: optional ``callback(fraction, stage)``; returning ``False`` cancels.
+
+        Returns:
+            A :class:`Localization`; its per-vertex arrays have :attr:`n_vertices` entries,
+            its ``timings["preparation"]`` is 0 (see :attr:`preparation_seconds`).
+
+        Raises:
+            MeshError: the partial mesh is invalid. ValueError: the partial cannot be
+            matched (e.g. it has no boundary, or is larger than the full shape).
+            Cancelled: the callback returned ``False``.
+        """
+        pv, pf = _mesh_arrays(partial_vertices, partial_faces, "partial mesh")
+        _check_progress(progress)
+        result = self._native.locate(pv, pf, progress)
+        already = set(self._native.warnings)
+        _warn(w for w in result.warnings if w not in already)
+        return result
+
+    @property
+    def n_vertices(self) -> int:
+        """Vertices of the full mesh as given (the length of every per-vertex result)."""
+        return self._native.n_vertices
+
+    @property
+    def optimisation_vertices(self) -> int:
+        """Vertices of the optimisation mesh (the full shape decimated to about ``resolution``)."""
+        return self._native.optimisation_vertices
+
+    @property
+    def warnings(self) -> Tuple[str, ...]:
+        """Notes on the full mesh's intake and the preparation (repeated in every result)."""
+        return self._native.warnings
+
+    @property
+    def options(self) -> Dict[str, OptionValue]:
+        """Every option it was prepared with, by name (a new dict on each access)."""
+        return self._native.options
+
+    @property
+    def preparation_seconds(self) -> float:
+        """Wall-clock seconds the preparation took."""
+        return self._native.preparation_seconds
+
+    def __repr__(self) -> str:
+        return repr(self._native)
+
+
 def localize(
     full_vertices: ArrayLike,
     full_faces: ArrayLike,
     partial_vertices: ArrayLike,
     partial_faces: ArrayLike,
     *,
-    mode: Literal["dual", "lbo", "si"] = "dual",
-    k: int = 20,
-    alpha: float = 0.33,
-    seed: int = 0,
-    resolution: Optional[int] = None,
-    centers: Optional[int] = None,
-    max_iterations: Optional[int] = None,
-    threads: Optional[int] = None,
-    selection: Optional[Literal["gated", "region", "descriptors", "cost"]] = None,
-    starts: Optional[
-        Literal["balls-and-wide-bumps", "balls-and-wide-gaussians", "gaussian", "area-ball"]
-    ] = None,
-    spectral_cuts: Optional[int] = None,
-    plane_cuts: Optional[int] = None,
     progress: Optional[ProgressCallback] = None,
+    **options: OptionValue,
 ) -> Localization:
     """Find the region of the full mesh that the partial mesh corresponds to.
 
+    The one-call form of :class:`Localizer` (use that to locate several partials on one full
+    shape: the preparation is then done once).
+
     Args:
         full_vertices, full_faces: the full shape M, ``(n, 3)`` and ``(m, 3)``.
-        partial_vertices, partial_faces: the partial shape N.
-        mode: ``"dual"`` matches k regular + k scale-invariant Dirichlet eigenvalues (the
-            paper's method); ``"lbo"`` 2k regular ones; ``"si"`` 2k scale-invariant ones.
-        k: eigenvalues per spectrum.
-        alpha: exponent of the scale-invariant metric factor.
-        seed: seed of every random choice (results are deterministic for a seed).
-        resolution: vertices of the decimated full shape the potential is optimised on
-            (0: no decimation; default: the core's, 1000).
-        centers: farthest-point centres of the starts (3 starts each by default, see
-            ``starts``; default 4, the paper used 10).
-        max_iterations: trust-region iterations per start (default 25).
-        threads: worker threads (0 or default: all cores).
-        selection: how the result is chosen among the starts: ``"gated"`` (default:
-            the best descriptor score, times the squared fit of the partial's descriptors
-            to the region's, which tells a region from its mirror image, among the starts
-            whose extracted region's own spectra are within 3x of the closest to the
-            partial's), ``"region"`` (those spectra
-            closest), ``"descriptors"``
-            (SHOT descriptors, the paper's rule) or ``"cost"`` (lowest optimised cost).
-        starts: the starting potentials around each centre: ``"balls-and-wide-bumps"``
-            (default, 3 per centre: a well on the ball with the partial's area, one on
-            everything but the ball with the rest of the area, and the wide Gaussian bump),
-            ``"balls-and-wide-gaussians"`` (4: also the wide Gaussian well), ``"gaussian"``
-            (4: the paper's Gaussians of two widths, both signs) or ``"area-ball"`` (2: the
-            two balls only). Unknown names raise ``ValueError``.
-        spectral_cuts: further starts from the full shape's first eigenfunctions, two each
-            (the region on either side of a level set, with the partial's area); default 0.
-            They suit partials cut across a natural axis, e.g. the left half of a body.
-        plane_cuts: further starts, one per direction: the side of a plane with the
-            partial's area, normal to the first ``plane_cuts`` of 26 directions (default 6:
-            both ways along the full shape's principal axes; 14: and the diagonals; at most
-            26). They suit partials cut off across the body, e.g. the front half of a torso.
+        partial_vertices, partial_faces: the partial shape N. For both meshes, degenerate
+            faces and vertices in no face are left out (with a warning).
         progress: optional ``callback(fraction, stage)``; returning ``False`` cancels.
+        **options: the core's options by name (``ValueError`` for an unknown name or a value
+            out of range; see :func:`options_schema`):
+
+{options}
 
     Returns:
-        A :class:`Localization` (``region`` boolean mask over the full mesh's vertices, soft
-        ``score``, ``potential``, spectra, ``cost``, ``timings``).
+        A :class:`Localization` (``region`` boolean mask over the ``n`` full-mesh vertices,
+        soft ``score``, ``potential``, spectra, ``cost``, ``candidates``, ``timings``,
+        ``warnings``).
 
     Raises:
         MeshError: a mesh is invalid. Cancelled: the callback returned ``False``. An
@@ -144,27 +275,15 @@ def localize(
     """
     fv, ff = _mesh_arrays(full_vertices, full_faces, "full mesh")
     pv, pf = _mesh_arrays(partial_vertices, partial_faces, "partial mesh")
-    if progress is not None and not callable(progress):
-        raise TypeError("progress must be callable as progress(fraction, stage)")
-    return _dualspectra.localize(
-        fv,
-        ff,
-        pv,
-        pf,
-        mode,
-        _count(k, "k"),
-        float(alpha),
-        _count(seed, "seed"),
-        _optional_count(resolution, "resolution"),
-        _optional_count(centers, "centers"),
-        _optional_count(max_iterations, "max_iterations"),
-        _optional_count(threads, "threads"),
-        selection,
-        starts,
-        _optional_count(spectral_cuts, "spectral_cuts"),
-        _optional_count(plane_cuts, "plane_cuts"),
-        progress,
-    )
+    _check_progress(progress)
+    result = _dualspectra.localize(fv, ff, pv, pf, options, progress)
+    _warn(result.warnings)
+    return result
+
+
+# The options' documentation is the core's table, not a copy.
+Localizer.__doc__ = (Localizer.__doc__ or "").replace("{options}", _options_doc())
+localize.__doc__ = (localize.__doc__ or "").replace("{options}", _options_doc())
 
 
 def spectrum(
@@ -229,13 +348,33 @@ def lumped_mass(vertices: ArrayLike, faces: ArrayLike) -> NDArray[np.float64]:
     return _dualspectra.lumped_mass(v, f)
 
 
-def read_mesh(path: Union[str, "os.PathLike[str]"]) -> Tuple[NDArray[np.float64], NDArray[np.int64]]:
-    """Read a triangle mesh file (OFF, OBJ, PLY, STL) into ``(V (n, 3) float64, F (m, 3) int64)``.
+@overload
+def read_mesh(
+    path: Union[str, "os.PathLike[str]"], *, return_kept: Literal[False] = False
+) -> Tuple[NDArray[np.float64], NDArray[np.int64]]: ...
+@overload
+def read_mesh(
+    path: Union[str, "os.PathLike[str]"], *, return_kept: Literal[True]
+) -> Tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.int64]]: ...
+def read_mesh(
+    path: Union[str, "os.PathLike[str]"], *, return_kept: bool = False
+) -> Union[
+    Tuple[NDArray[np.float64], NDArray[np.int64]],
+    Tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.int64]],
+]:
+    """Read a triangle mesh file (OFF, OBJ, PLY) into ``(V (n, 3) float64, F (m, 3) int64)``.
+
+    Polygons are fan-triangulated. A triangle listed twice in opposite orientations (a
+    two-sided "flap", as in SHREC'16 ``cat.off``) is removed, and so is its tip vertex if no
+    other face uses it, so rows of ``V`` may then differ from the file's vertex records: with
+    ``return_kept=True`` a third array ``kept (n,) int64`` gives the file's record of each row
+    (``np.arange(n)`` when nothing was dropped). Any other vertex in no face is an error.
 
     Raises ``OSError`` if the file cannot be read and :class:`MeshError` if its content is
     not a valid triangle mesh.
     """
-    return _dualspectra.read_mesh(os.fspath(path))
+    v, f, kept = _dualspectra.read_mesh(os.fspath(path))
+    return (v, f, kept) if return_kept else (v, f)
 
 
 def _count(value: Any, name: str) -> int:
@@ -247,7 +386,3 @@ def _count(value: Any, name: str) -> int:
     if i < 0:
         raise ValueError(f"{name} must be non-negative, got {i}")
     return i
-
-
-def _optional_count(value: Any, name: str) -> Optional[int]:
-    return None if value is None else _count(value, name)

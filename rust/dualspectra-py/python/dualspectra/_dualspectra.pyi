@@ -4,7 +4,7 @@ Arrays must already be contiguous float64 ``(n, 3)`` vertices and int64 ``(m, 3)
 (``dualspectra`` converts array-likes).
 """
 
-from typing import Callable, Optional, Tuple, final
+from typing import Any, Callable, Dict, List, Optional, Tuple, Union, final
 
 import numpy as np
 from numpy.typing import NDArray
@@ -14,8 +14,11 @@ __all__ = [
     "MeshError",
     "Cancelled",
     "NumericalError",
+    "Candidate",
     "Localization",
+    "Localizer",
     "localize",
+    "options_schema",
     "cotangent_stiffness",
     "lumped_mass",
     "gaussian_curvature",
@@ -24,6 +27,9 @@ __all__ = [
 ]
 
 __version__: str
+
+_Progress = Optional[Callable[[float, str], Optional[bool]]]
+_Options = Optional[Dict[str, Union[int, float, str]]]
 
 class MeshError(ValueError):
     """The mesh arrays or mesh file are invalid."""
@@ -35,8 +41,41 @@ class NumericalError(RuntimeError):
     """A numerical step failed."""
 
 @final
+class Candidate:
+    """One optimised start of a localization."""
+
+    @property
+    def label(self) -> str:
+        """Where it started: ``ball@c``, ``coball@c``, ``bump@c/sigma1``, ``planeJ`` or ``given#i``."""
+    @property
+    def cost(self) -> float:
+        """Final alignment cost."""
+    @property
+    def descriptor_score(self) -> Optional[float]:
+        """Descriptor projection score (lower is better; ``None`` if not computed)."""
+    @property
+    def region_cost(self) -> Optional[float]:
+        """Cost of the region's own step potential (lower is better; ``None`` if not computed)."""
+    @property
+    def boundary_misfit(self) -> Optional[float]:
+        """Boundary-length misfit ``|ln(L_R / L_N)|`` (``None`` when a boundary length is 0)."""
+    @property
+    def partial_fit(self) -> Optional[float]:
+        """Partial-to-region descriptor fit (lower is better; ``None`` for an empty region)."""
+    @property
+    def iterations(self) -> int:
+        """Trust-region iterations of its run."""
+    @property
+    def evaluations(self) -> int:
+        """Cost evaluations of its run."""
+    @property
+    def region(self) -> NDArray[np.bool_]:
+        """Its region, one ``bool`` per vertex of the caller's full mesh."""
+
+@final
 class Localization:
-    """Result of ``localize``. Per-vertex arrays are indexed by the full mesh's vertices."""
+    """Result of a localization. Per-vertex arrays are indexed by the caller's full-mesh
+    vertices (vertices left out by the intake read ``False`` / ``0.0``)."""
 
     @property
     def region(self) -> NDArray[np.bool_]:
@@ -64,33 +103,60 @@ class Localization:
         """Final alignment cost of the selected start."""
     @property
     def selected_start(self) -> int:
-        """Index of the selected start."""
+        """Index of the selected start in ``candidates``."""
     @property
     def n_starts(self) -> int:
         """Number of starts run."""
     @property
-    def timings(self) -> dict[str, float]:
-        """Wall-clock seconds per stage: preprocessing, starts, optimisation, selection, region, total."""
+    def candidates(self) -> Tuple[Candidate, ...]:
+        """Every optimised start; the chosen one is ``candidates[selected_start]``."""
+    @property
+    def warnings(self) -> Tuple[str, ...]:
+        """What was repaired or skipped (the meshes' intake, a disconnected partial, ...)."""
+    @property
+    def timings(self) -> Dict[str, float]:
+        """Wall-clock seconds per stage: preparation (0 when a prepared ``Localizer`` was
+        reused), preprocessing, starts, optimisation, region, selection, total."""
+
+@final
+class Localizer:
+    """A full shape prepared once for locating partials on it."""
+
+    def __new__(
+        cls,
+        vertices: NDArray[np.float64],
+        faces: NDArray[np.int64],
+        options: _Options = None,
+        progress: _Progress = None,
+    ) -> Localizer: ...
+    def locate(
+        self, vertices: NDArray[np.float64], faces: NDArray[np.int64], progress: _Progress = None
+    ) -> Localization: ...
+    @property
+    def n_vertices(self) -> int:
+        """Vertices of the caller's full mesh."""
+    @property
+    def optimisation_vertices(self) -> int:
+        """Vertices of the optimisation mesh."""
+    @property
+    def warnings(self) -> Tuple[str, ...]:
+        """Notes on the full mesh's intake and the preparation."""
+    @property
+    def options(self) -> Dict[str, Union[int, float, str]]:
+        """The options it was prepared with."""
+    @property
+    def preparation_seconds(self) -> float:
+        """Seconds the preparation took."""
 
 def localize(
     full_vertices: NDArray[np.float64],
     full_faces: NDArray[np.int64],
     partial_vertices: NDArray[np.float64],
     partial_faces: NDArray[np.int64],
-    mode: str,
-    k: int,
-    alpha: float,
-    seed: int,
-    resolution: Optional[int] = None,
-    centers: Optional[int] = None,
-    max_iterations: Optional[int] = None,
-    threads: Optional[int] = None,
-    selection: Optional[str] = None,
-    starts: Optional[str] = None,
-    spectral_cuts: Optional[int] = None,
-    plane_cuts: Optional[int] = None,
-    progress: Optional[Callable[[float, str], Optional[bool]]] = None,
+    options: _Options = None,
+    progress: _Progress = None,
 ) -> Localization: ...
+def options_schema() -> List[Dict[str, Any]]: ...
 def spectrum(
     vertices: NDArray[np.float64], faces: NDArray[np.int64], k: int, metric: str, alpha: float
 ) -> NDArray[np.float64]: ...
@@ -101,4 +167,4 @@ def cotangent_stiffness(
     vertices: NDArray[np.float64], faces: NDArray[np.int64]
 ) -> Tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.int64], int]: ...
 def lumped_mass(vertices: NDArray[np.float64], faces: NDArray[np.int64]) -> NDArray[np.float64]: ...
-def read_mesh(path: str) -> Tuple[NDArray[np.float64], NDArray[np.int64]]: ...
+def read_mesh(path: str) -> Tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.int64]]: ...
