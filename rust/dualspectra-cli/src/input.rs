@@ -25,3 +25,23 @@ pub fn to_file_vertices(values: &[f64], report: &ReadReport) -> Vec<Option<f64>>
     }
     out
 }
+
+/// What reading dropped from the file's vertices, one sentence per reason (empty if
+/// nothing was): the values of those vertices are `null` in per-vertex outputs.
+pub fn dropped_vertex_warnings(report: &ReadReport) -> Vec<String> {
+    let mut warnings = Vec::new();
+    if report.flap_vertices_dropped > 0 {
+        warnings.push(format!(
+            "dropped {} vertices used only by repeated triangles (the tips of two-sided flaps: a triangle \
+             listed in both orientations; {} repeated triangles removed), their values are null",
+            report.flap_vertices_dropped, report.duplicate_faces_removed
+        ));
+    }
+    if report.isolated_dropped > 0 {
+        warnings.push(format!(
+            "dropped {} vertices that belong to no face (--drop-isolated), their values are null",
+            report.isolated_dropped
+        ));
+    }
+    warnings
+}

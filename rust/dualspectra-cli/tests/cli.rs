@@ -132,7 +132,8 @@ fn curvature(path: &str) -> (Vec<f64>, Vec<f64>) {
     let v = json(&run(&["curvature", path]));
     let mut keys: Vec<_> = v.as_object().unwrap().keys().cloned().collect();
     keys.sort();
-    assert_eq!(keys, ["gaussian_curvature", "smoothed"]);
+    assert_eq!(keys, ["gaussian_curvature", "smoothed", "warnings"]);
+    assert_eq!(v["warnings"], serde_json::json!([]), "nothing dropped");
     (f64s(&v["gaussian_curvature"]), f64s(&v["smoothed"]))
 }
 
@@ -267,6 +268,36 @@ fn isolated_vertices_fail_with_a_hint_or_are_dropped_on_request() {
         eigenvalues(&run(&["spectrum", p, "--k", "2", "--drop-isolated"])).len(),
         2
     );
+}
+
+#[test]
+fn issue23_curvature_warns_about_dropped_flap_vertices() {
+    // flap.off: a tetrahedron with a two-sided flap whose tip (vertex 4) is in no other face;
+    // reading removes the flap and the tip, whose values are null: say so, and why.
+    let flap = data("flap.off");
+    let out = run(&["curvature", flap.to_str().unwrap()]);
+    let v = json(&out);
+    let k = v["gaussian_curvature"].as_array().unwrap();
+    assert_eq!(k.len(), 5);
+    assert!(k[4].is_null() && v["smoothed"][4].is_null());
+    assert!(k[..4].iter().all(Value::is_f64));
+    let warnings = v["warnings"].as_array().unwrap();
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    let w = warnings[0].as_str().unwrap();
+    assert!(w.contains("dropped 1 vertices") && w.contains("two-sided flaps") && w.contains("2 repeated triangles"), "{w}");
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert_eq!(stderr.lines().collect::<Vec<_>>(), [format!("warning: {}: {w}", flap.display())]);
+    // Also with --json OUT: the warning on stderr and in the file.
+    let out_path = tmp("flap_curvature.json");
+    let out = run(&["curvature", flap.to_str().unwrap(), "--json", out_path.to_str().unwrap()]);
+    assert!(out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("dropped 1 vertices"));
+    let v: Value = serde_json::from_slice(&std::fs::read(&out_path).unwrap()).unwrap();
+    assert_eq!(v["warnings"].as_array().unwrap().len(), 1);
+    // Isolated vertices dropped on request: the other reason.
+    let v = json(&run(&["curvature", data("isolated.off").to_str().unwrap(), "--drop-isolated"]));
+    let w = v["warnings"][0].as_str().unwrap();
+    assert!(w.contains("dropped 1 vertices that belong to no face"), "{w}");
 }
 
 #[test]

@@ -7,6 +7,8 @@ use std::path::PathBuf;
 pub enum MeshError {
     #[error("mesh has no faces")]
     NoFaces,
+    #[error("all {count} faces are degenerate (zero area or a repeated vertex)")]
+    AllFacesDegenerate { count: usize },
     #[error("mesh has no vertices")]
     NoVertices,
     #[error("face {face} refers to vertex {index}, but the mesh has {n_vertices} vertices")]

@@ -165,6 +165,11 @@ impl Shape {
     /// (`self.dirichlet().extend` puts zeros back on the boundary).
     pub fn dirichlet_spectrum(&self, metric: Metric, k: usize) -> Result<Spectrum> {
         let n_free = self.dirichlet().n_free();
+        if n_free == 0 {
+            return Err(Error::InvalidArgument(format!(
+                "k = {k} eigenvalues requested, but the mesh has no interior vertex (every vertex is on the boundary)"
+            )));
+        }
         if k == 0 || k >= n_free {
             return Err(Error::InvalidArgument(format!(
                 "k = {k} eigenvalues requested, but the mesh has {n_free} interior vertices (need 0 < k < {n_free})"

@@ -243,3 +243,298 @@ fn corrupted_bytes_never_panic() {
         }
     }
 }
+
+// ---------------------------------------------------------------------------------------
+// Issue 23 (adversarial review of the readers): one regression test per finding, named
+// after it; the inputs are `tests/data/issue23_*` or generated here when large.
+
+/// The result of `f`, run on its own thread; a hang fails after `limit` instead of
+/// blocking the test suite, and a panic fails with its message.
+fn within<T: Send + 'static>(limit: std::time::Duration, what: &str, f: impl FnOnce() -> T + Send + 'static) -> T {
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = tx.send(f());
+    });
+    match rx.recv_timeout(limit) {
+        Ok(v) => v,
+        Err(std::sync::mpsc::RecvTimeoutError::Timeout) => panic!("{what}: no answer within {limit:?}"),
+        Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => panic!("{what}: the reader panicked"),
+    }
+}
+
+const SECONDS_5: std::time::Duration = std::time::Duration::from_secs(5);
+
+/// Read bytes as a file of `format` (in memory), within 5 s.
+fn read_bytes(bytes: Vec<u8>, ext: &'static str) -> dualspectra::Result<dualspectra::TriMesh> {
+    within(SECONDS_5, ext, move || {
+        let path = PathBuf::from(format!("<memory>.{ext}"));
+        let format = dualspectra::mesh::io::MeshFormat::from_path(&path).unwrap();
+        dualspectra::mesh::io::read_mesh_from_bytes(&bytes, format, &path, &ReadOptions::default()).map(|(m, _)| m)
+    })
+}
+
+fn parse_message_of(result: dualspectra::Result<dualspectra::TriMesh>) -> String {
+    match result {
+        Err(Error::Parse { message, .. }) => message,
+        other => panic!("expected a parse error, got {other:?}"),
+    }
+}
+
+/// The tetrahedron as binary PLY (the writer's layout: 3 doubles, `uchar int` lists),
+/// with `extra` header lines inserted before `element face`.
+fn tetrahedron_binary_ply(extra: &str) -> Vec<u8> {
+    let tet = read_mesh(&data("tetrahedron.off")).unwrap();
+    let path = tmp("tet_binary.ply");
+    dualspectra::mesh::io::write_ply(&path, &tet, None, true).unwrap();
+    let bytes = std::fs::read(&path).unwrap();
+    let at = bytes.windows(12).position(|w| w == b"element face").unwrap();
+    [&bytes[..at], extra.as_bytes(), &bytes[at..]].concat()
+}
+
+#[test]
+fn issue23_ply_empty_element_huge_count() {
+    let tet = read_mesh(&data("tetrahedron.off")).unwrap();
+    // ASCII: each record of a property-less element is a line; 2^64 - 1 lines cannot fit.
+    let path = data("issue23_ply_empty_element_huge_count.ply");
+    let p = path.clone();
+    let m = within(SECONDS_5, "2^64 - 1 empty ASCII records", move || parse_message(&p));
+    assert!(
+        m.contains("element 'junk' declares 18446744073709551615 records") && m.contains("bytes of data are left"),
+        "{m}"
+    );
+    let text = std::fs::read_to_string(&path).unwrap();
+    let m = parse_message_of(read_bytes(text.replace("18446744073709551615", "1000000000").into_bytes(), "ply"));
+    assert!(m.contains("declares 1000000000 records"), "{m}");
+    // A count the data can hold (the element's records are empty lines) reads.
+    let fits = text.replace("18446744073709551615", "3").into_bytes();
+    assert_eq!(read_bytes(fits, "ply").unwrap(), tet);
+    // Binary: a record of no properties has zero bytes, so any count is skipped in O(1).
+    for count in ["18446744073709551615", "1000000000"] {
+        let bytes = tetrahedron_binary_ply(&format!("element junk {count}\n"));
+        assert_eq!(read_bytes(bytes, "ply").unwrap(), tet, "binary, {count} empty records");
+    }
+}
+
+#[test]
+fn issue23_off_faces_beyond_header_count() {
+    let path = data("issue23_off_faces_beyond_header_count.off");
+    let m = parse_message(&path);
+    assert!(
+        m.contains("line 12") && m.contains("'3 1 3 2'") && m.contains("4 vertices and 3 faces the header declares"),
+        "{m}"
+    );
+    // With the count corrected, the same records are the closed tetrahedron.
+    let fixed = std::fs::read_to_string(&path).unwrap().replace("4 3 0", "4 4 0");
+    let mesh = read_bytes(fixed.into_bytes(), "off").unwrap();
+    assert_eq!(mesh, read_mesh(&data("tetrahedron.off")).unwrap());
+    assert!(dualspectra::mesh::topology::boundary_vertices(&mesh).is_empty());
+    // Trailing comments and blank lines are not records.
+    let tail = std::fs::read_to_string(data("tetrahedron.off")).unwrap() + "\n# end\n\n   \n";
+    assert!(read_bytes(tail.into_bytes(), "off").is_ok());
+}
+
+#[test]
+fn issue23_ply_trailing_data() {
+    let m = parse_message(&data("issue23_ply_trailing_data.ply"));
+    assert!(
+        m.contains("line 18") && m.contains("data after the last element 'face': '3'"),
+        "{m}"
+    );
+    // Binary: any byte after the last record.
+    let mut bytes = tetrahedron_binary_ply("");
+    assert!(read_bytes(bytes.clone(), "ply").is_ok());
+    bytes.extend([0u8; 13]);
+    let m = parse_message_of(read_bytes(bytes, "ply"));
+    assert!(m.contains("13 bytes of data after the last element 'face'"), "{m}");
+    // Trailing whitespace after ASCII data is not data.
+    let text = std::fs::read_to_string(data("square_pyramid.ply")).unwrap() + "\n \n\t\n";
+    assert!(read_bytes(text.into_bytes(), "ply").is_ok());
+}
+
+#[test]
+fn issue23_ply_second_vertex_element() {
+    let m = parse_message(&data("issue23_ply_second_vertex_element.ply"));
+    assert!(
+        m.contains("line 10") && m.contains("a second 'vertex' element (the first is on line 4)"),
+        "{m}"
+    );
+    let two_faces = tetrahedron_binary_ply("element face 1\nproperty list uchar int vertex_indices\n");
+    let m = parse_message_of(read_bytes(two_faces, "ply"));
+    assert!(m.contains("a second 'face' element"), "{m}");
+}
+
+#[test]
+fn issue23_obj_non_numeric_texture_index() {
+    let m = parse_message(&data("issue23_obj_non_numeric_texture_index.obj"));
+    assert!(m.contains("line 7") && m.contains("'1/a/b'") && m.contains("texture index 'a' is not an integer"), "{m}");
+    let obj = |corner: &str| format!("v 0 0 0\nv 1 0 0\nv 0 1 0\nf {corner} 2 3\n").into_bytes();
+    let m = parse_message_of(read_bytes(obj("1//x"), "obj"));
+    assert!(m.contains("normal index 'x' is not an integer"), "{m}");
+    let m = parse_message_of(read_bytes(obj("1/2/3/4"), "obj"));
+    assert!(m.contains("more than three"), "{m}");
+    // The four legal forms read.
+    for corner in ["1", "1/2", "1//3", "1/2/3", "-3/-1/-1"] {
+        assert!(read_bytes(obj(corner), "obj").is_ok(), "{corner}");
+    }
+}
+
+#[test]
+fn issue23_obj_most_negative_index() {
+    let m = parse_message(&data("issue23_obj_most_negative_index.obj"));
+    assert!(
+        m.contains("line 6: face 0 refers to vertex -9223372036854775808, but only 3 vertices are defined before it"),
+        "{m}"
+    );
+    let obj = |i: &str| format!("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 {i}\n").into_bytes();
+    let m = parse_message_of(read_bytes(obj("9223372036854775807"), "obj"));
+    assert!(m.contains("refers to vertex 9223372036854775807, but the file has 3 vertices"), "{m}");
+    let m = parse_message_of(read_bytes(obj("-4"), "obj"));
+    assert!(m.contains("refers to vertex -4, but only 3 vertices"), "{m}");
+    assert!(read_bytes(obj("-1"), "obj").is_ok());
+}
+
+#[test]
+fn issue23_long_token_is_quoted_short() {
+    let long = "9".repeat(10 << 20) + "x";
+    let cases: [(&str, String); 6] = [
+        ("off", format!("OFF\n3 1 0\n0 0 {long}\n1 0 0\n0 1 0\n3 0 1 2\n")),
+        ("off", format!("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 {long}\n")),
+        ("off", format!("OFF\n{long} 1 0\n")),
+        ("obj", format!("v 0 0 {long}\n")),
+        ("obj", format!("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3/{long}\n")),
+        (
+            "ply",
+            format!("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 {long}\n"),
+        ),
+    ];
+    for (k, (ext, text)) in cases.into_iter().enumerate() {
+        let m = parse_message_of(read_bytes(text.into_bytes(), ext));
+        assert!(m.len() < 200 && m.contains("9999...' (") && m.contains(" bytes)"), "case {k}: {m}");
+    }
+}
+
+#[test]
+fn issue23_scaled_mesh_is_not_degenerate() {
+    use dualspectra::mesh::intake::MeshIntake;
+    let ico = dualspectra::mesh::generate::icosphere(1);
+    for s in [1e160, 1e-160, 1e300, 1e-300, 1e-310] {
+        // A valid mesh stays valid at any scale: its area underflows (1e-320) or overflows
+        // (1e320) in the unscaled formula.
+        let scaled = ico.map_positions(|p| p.map(|x| x * s));
+        assert!(scaled.is_ok(), "scale {s:e}: {:?}", scaled.err());
+        let (v, f) = scaled.unwrap().into_parts();
+        let intake = MeshIntake::new(v, f).unwrap();
+        assert_eq!((intake.dropped_faces, intake.dropped_vertices), (0, 0), "scale {s:e}");
+        // ... and a degenerate face stays degenerate: degenerate.off, scaled.
+        let off = format!("OFF\n4 2 0\n0 0 0\n{s:e} 0 0\n0 {s:e} 0\n{:e} 0 0\n3 0 1 2\n3 0 3 1\n", 2.0 * s);
+        match read_bytes(off.into_bytes(), "off") {
+            Err(Error::InvalidMeshFile { source, .. }) => {
+                assert_eq!(source, MeshError::DegenerateFace { face: 1 }, "scale {s:e}")
+            }
+            other => panic!("scale {s:e}: {other:?}"),
+        }
+    }
+    // Coordinates near f64::MAX: the edge vectors overflow unless halved first.
+    let big = 1.5e308;
+    let tri = dualspectra::TriMesh::new(vec![[big, 0.0, 0.0], [-big, 0.0, 0.0], [0.0, big, 0.0]], vec![[0, 1, 2]]);
+    assert!(tri.is_ok(), "{:?}", tri.err());
+    let flat = dualspectra::TriMesh::new(vec![[big, 0.0, 0.0], [-big, 0.0, 0.0], [0.0, 0.0, 0.0]], vec![[0, 1, 2]]);
+    assert_eq!(flat.unwrap_err(), MeshError::DegenerateFace { face: 0 });
+}
+
+#[test]
+fn issue23_no_interior_vertex_message() {
+    use dualspectra::shape::{Metric, Shape};
+    // A single triangle: every vertex is on the boundary.
+    let tri = dualspectra::TriMesh::new(vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], vec![[0, 1, 2]]).unwrap();
+    let e = Shape::new(tri).dirichlet_spectrum(Metric::Regular, 1).unwrap_err().to_string();
+    assert!(e.contains("the mesh has no interior vertex (every vertex is on the boundary)"), "{e}");
+    assert!(!e.contains("0 < k < 0"), "{e}");
+    // With interior vertices, the count and the range.
+    let disk = dualspectra::mesh::generate::disk(1.0, 3);
+    let e = Shape::new(disk).dirichlet_spectrum(Metric::Regular, 10_000).unwrap_err().to_string();
+    assert!(e.contains("interior vertices (need 0 < k <"), "{e}");
+}
+
+#[test]
+fn issue23_non_regular_file_is_refused() {
+    #[cfg(unix)]
+    {
+        // A symbolic link to /dev/zero was read without bound.
+        let link = tmp("zero.off");
+        let _ = std::fs::remove_file(&link);
+        std::os::unix::fs::symlink("/dev/zero", &link).unwrap();
+        let l = link.clone();
+        match within(SECONDS_5, "symlink to /dev/zero", move || read_mesh(&l)) {
+            Err(Error::Io { path, source }) => {
+                assert_eq!(path, link);
+                let m = source.to_string();
+                assert!(m.contains("not a regular file") && m.contains("/dev/zero") && m.contains("character device"), "{m}");
+            }
+            other => panic!("{other:?}"),
+        }
+        // A named pipe: refused without opening it (opening would block).
+        let fifo = tmp("pipe.off");
+        let _ = std::fs::remove_file(&fifo);
+        if std::process::Command::new("mkfifo").arg(&fifo).status().is_ok_and(|s| s.success()) {
+            let f = fifo.clone();
+            let m = within(SECONDS_5, "named pipe", move || read_mesh(&f)).unwrap_err().to_string();
+            assert!(m.contains("not a regular file (a named pipe)"), "{m}");
+        } else {
+            println!("mkfifo not available: the named-pipe case is not checked");
+        }
+        // A symbolic link to a regular file reads.
+        let good = tmp("link_to_tet.off");
+        let _ = std::fs::remove_file(&good);
+        std::os::unix::fs::symlink(data("tetrahedron.off"), &good).unwrap();
+        assert_eq!(read_mesh(&good).unwrap().n_faces(), 4);
+    }
+    let dir = tmp("a_directory_23.off");
+    std::fs::create_dir_all(&dir).unwrap();
+    let m = read_mesh(&dir).unwrap_err().to_string();
+    assert!(m.contains("not a regular file (a directory)"), "{m}");
+}
+
+#[test]
+fn issue23_first_bad_face_fails_the_read() {
+    // Faces are checked as they are read: face 0 fails before the bad token on line 7
+    // (which used to be reported first, after everything was held in memory).
+    let off = "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n0\n3 0 1 x\n";
+    let m = parse_message_of(read_bytes(off.into(), "off"));
+    assert!(m.contains("line 6: face 0 has 0 vertices"), "{m}");
+    // 10^7 zero-length binary faces: an error at face 0, not after reading them all.
+    let header = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+                  property float z\nelement face 10000000\nproperty list uchar int vertex_indices\nend_header\n";
+    let mut bytes = header.as_bytes().to_vec();
+    bytes.extend([0u8; 36]);
+    bytes.resize(bytes.len() + 10_000_000, 0);
+    let m = parse_message_of(read_bytes(bytes, "ply"));
+    assert_eq!(m, "face 0 has 0 vertices; a face needs at least 3");
+    // A face before the vertex element is checked against the declared vertex count.
+    let ply = "ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_indices\nelement vertex 3\n\
+               property float x\nproperty float y\nproperty float z\nend_header\n3 0 1 7\n0 0 0\n1 0 0\n0 1 0\n";
+    match read_bytes(ply.into(), "ply") {
+        Err(Error::InvalidMeshFile { source, .. }) => {
+            assert_eq!(source, MeshError::IndexOutOfRange { face: 0, index: 7, n_vertices: 3 })
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn ply_ascii_integers_must_fit_their_declared_type() {
+    // A value its declared type cannot hold is malformed (a binary file could not hold it),
+    // not read as written: here an index 300 declared `uchar`, a list length 256 declared `uchar`.
+    let ply = |face: &str| {
+        format!(
+            "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n\
+             element face 1\nproperty list uchar uchar vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n{face}\n"
+        )
+        .into_bytes()
+    };
+    assert!(read_bytes(ply("3 0 1 2"), "ply").is_ok());
+    let m = parse_message_of(read_bytes(ply("3 0 1 300"), "ply"));
+    assert!(m.contains("face 0, vertex_indices: '300' is not an integer in [0, 255]"), "{m}");
+    let m = parse_message_of(read_bytes(ply("256 0 1 2"), "ply"));
+    assert!(m.contains("'256' is not an integer in [0, 255]"), "{m}");
+}

@@ -3,13 +3,15 @@
 //! Per vertex: the angle-defect Gaussian curvature $K_i = (2\pi - \sum\theta)/a_i$
 //! ($\pi - \sum\theta$ on the boundary, $a_i$ the lumped area) and its one-ring mean, the
 //! curvature the scale-invariant metric uses (docs/algorithm.md, "Discrete operators"), both
-//! from `dualspectra::shape::Shape`. Writes `{"gaussian_curvature": [...], "smoothed": [...]}`
-//! to `OUT` with `--json`, to standard output otherwise. Arrays follow the file's vertex
+//! from `dualspectra::shape::Shape`. Writes
+//! `{"gaussian_curvature": [...], "smoothed": [...], "warnings": [...]}` to `OUT` with
+//! `--json`, to standard output otherwise. Arrays follow the file's vertex
 //! numbering; a vertex that reading dropped (isolated with `--drop-isolated`, or the tip
-//! of a removed two-sided flap) gets `null`.
+//! of a removed two-sided flap) gets `null`, and `"warnings"` says how many were dropped
+//! and why (each warning is also printed on standard error).
 
 use crate::error::CliError;
-use crate::input::{read_input_mesh, to_file_vertices};
+use crate::input::{dropped_vertex_warnings, read_input_mesh, to_file_vertices};
 use crate::output::{print_stdout, to_json_line, write_text};
 use dualspectra::shape::Shape;
 use serde::Serialize;
@@ -32,14 +34,21 @@ pub struct Args {
 struct Output {
     gaussian_curvature: Vec<Option<f64>>,
     smoothed: Vec<Option<f64>>,
+    /// What reading dropped (the reason for every `null`); empty if nothing.
+    warnings: Vec<String>,
 }
 
 pub fn run(args: Args) -> Result<(), CliError> {
     let (mesh, report) = read_input_mesh(&args.mesh, args.drop_isolated)?;
+    let warnings = dropped_vertex_warnings(&report);
+    for w in &warnings {
+        eprintln!("warning: {}: {w}", args.mesh.display());
+    }
     let shape = Shape::new(mesh);
     let output = Output {
         gaussian_curvature: to_file_vertices(shape.gaussian_curvature(), &report),
         smoothed: to_file_vertices(shape.smoothed_curvature(), &report),
+        warnings,
     };
     let text = to_json_line(&output)?;
     match &args.json {

@@ -15,7 +15,7 @@
 //! reads `$DUALSPECTRA_DATA` (which holds `shrec16/`).
 
 use crate::error::{Error, Result};
-use crate::mesh::io::{read_mesh, read_mesh_with_report, ReadOptions};
+use crate::mesh::io::{read_mesh, read_mesh_with_report, ReadOptions, ReadReport};
 use crate::mesh::TriMesh;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -259,7 +259,72 @@ pub fn ground_truth_mask(
     Ok(mask)
 }
 
-/// Read a full shape together with the grouping of its triangles by file face record.
+/// Ground-truth mask over the vertices of a full shape read from a file, for rows that
+/// name the file's triangles: each row's triangle goes through the read report, so the
+/// mask is right when reading triangulated polygons, removed repeated triangles or
+/// two-sided flaps (which renumbers the later triangles), or dropped vertices. A row whose
+/// triangle reading removed marks the triangle's vertices the mesh kept (a flap's base,
+/// not its tip); a row none of whose vertices is left is an error, as is a row out of range.
+pub fn ground_truth_mask_in_file(
+    full: &TriMesh,
+    report: &ReadReport,
+    rows: &[BarycentricRow],
+    path: &Path,
+) -> Result<Vec<bool>> {
+    let n_records = report.file_faces;
+    // Mesh triangles of record r: first[r]..first[r + 1] (face_origin is in record order).
+    let mut first = vec![0usize; n_records + 1];
+    for &r in &report.face_origin {
+        if let Some(c) = first.get_mut(r as usize + 1) {
+            *c += 1;
+        }
+    }
+    for r in 0..n_records {
+        first[r + 1] += first[r];
+    }
+    let mut mesh_vertex = vec![u32::MAX; report.file_vertices];
+    for (m, &f) in report.kept_vertices.iter().enumerate() {
+        mesh_vertex[f as usize] = m as u32;
+    }
+    let mut mask = vec![false; full.n_vertices()];
+    for (r, row) in rows.iter().enumerate() {
+        let t = row.triangle as usize;
+        if t >= n_records {
+            return Err(parse_err(
+                path,
+                format!("row {}: triangle {} is out of range (the full shape has {n_records} faces; indices are 1-based)", r + 1, t + 1),
+            ));
+        }
+        let mut marked = false;
+        let mut mark = |v: u32| {
+            if let Some(m) = mask.get_mut(v as usize) {
+                *m = true;
+                marked = true;
+            }
+        };
+        for tri in &full.faces()[first[t]..first[t + 1]] {
+            tri.iter().for_each(|&v| mark(v));
+        }
+        // `removed_triangles` is in file order, hence sorted by record.
+        let removed = &report.removed_triangles;
+        let from = removed.partition_point(|&(rec, _)| (rec as usize) < t);
+        for (_, tri) in removed[from..].iter().take_while(|&&(rec, _)| rec as usize == t) {
+            tri.iter().for_each(|&v| mark(mesh_vertex[v as usize]));
+        }
+        if !marked {
+            return Err(parse_err(
+                path,
+                format!("row {}: triangle {} of the full shape was removed by reading, with all its vertices", r + 1, t + 1),
+            ));
+        }
+    }
+    Ok(mask)
+}
+
+/// Read a full shape together with the grouping of its triangles by file face record
+/// (`face_groups` of [`ground_truth_mask`]). A record whose triangle reading removed (a
+/// repeated copy, a two-sided flap) has an empty group; [`ground_truth_mask_in_file`]
+/// handles those too.
 pub fn read_full_shape(path: &Path) -> Result<(TriMesh, Vec<Vec<u32>>)> {
     let (mesh, report) = read_mesh_with_report(path, &ReadOptions::default())?;
     let mut groups = vec![Vec::new(); report.file_faces];
@@ -286,7 +351,7 @@ impl Pair {
                 });
             }
         }
-        let (full, groups) = read_full_shape(&self.full)?;
+        let (full, report) = read_mesh_with_report(&self.full, &ReadOptions::default())?;
         let partial = read_mesh(&self.partial)?;
         let load_gt = |path: &Path| -> Result<Vec<bool>> {
             let rows = read_barycentric_gt(path)?;
@@ -296,7 +361,7 @@ impl Pair {
                     format!("{} rows, but the partial shape has {} vertices (one row per vertex expected)", rows.len(), partial.n_vertices()),
                 ));
             }
-            ground_truth_mask(&full, &rows, Some(&groups), path)
+            ground_truth_mask_in_file(&full, &report, &rows, path)
         };
         let gt = load_gt(&self.gt)?;
         let gt_sym = if self.gt_sym.is_file() {

@@ -9,7 +9,7 @@
 //! Anything else invalid (an index out of range, a non-finite coordinate, a non-manifold
 //! edge, no face left) is an error.
 
-use super::{triangle_area, TriMesh};
+use super::TriMesh;
 use crate::error::{MeshError, Result};
 
 /// Relative area under which a triangle is degenerate (as in [`TriMesh::new`]).
@@ -41,12 +41,31 @@ impl MeshIntake {
                 return Err(MeshError::IndexOutOfRange { face: fi, index: i as u64, n_vertices: n }.into());
             }
         }
-        let good: Vec<[u32; 3]> = faces.iter().copied().filter(|f| !is_degenerate(&vertices, f)).collect();
-        let dropped_faces = faces.len() - good.len();
-        if good.is_empty() && !faces.is_empty() {
-            return Err(crate::error::Error::InvalidArgument(format!("all {} faces are degenerate (zero area)", faces.len())));
+        if faces.is_empty() {
+            return Err(MeshError::NoFaces.into());
         }
-        let (mesh, kept) = TriMesh::new_dropping_isolated(vertices, good)?;
+        // Host index of each kept face, for errors in the host's numbering.
+        let good_faces: Vec<usize> = (0..faces.len()).filter(|&i| !is_degenerate(&vertices, &faces[i])).collect();
+        let good: Vec<[u32; 3]> = good_faces.iter().map(|&i| faces[i]).collect();
+        let dropped_faces = faces.len() - good.len();
+        if good.is_empty() {
+            return Err(MeshError::AllFacesDegenerate { count: faces.len() }.into());
+        }
+        let (mesh, kept) = TriMesh::new_dropping_isolated(vertices, good.clone()).map_err(|e| {
+            // The mesh's numbering back to the host's: the vertices the kept faces use.
+            let mut used = vec![false; n];
+            good.iter().flatten().for_each(|&i| used[i as usize] = true);
+            let kept: Vec<u32> = (0..n as u32).filter(|&i| used[i as usize]).collect();
+            let vertex = |v: u32| kept.get(v as usize).copied().unwrap_or(v);
+            let face = |f: usize| good_faces.get(f).copied().unwrap_or(f);
+            match e {
+                MeshError::NonManifoldEdge { a, b, count } => MeshError::NonManifoldEdge { a: vertex(a), b: vertex(b), count },
+                MeshError::NonManifoldVertex { vertex: v, fans } => MeshError::NonManifoldVertex { vertex: vertex(v as u32) as usize, fans },
+                MeshError::DegenerateFace { face: f } => MeshError::DegenerateFace { face: face(f) },
+                MeshError::RepeatedVertexInFace { face: f } => MeshError::RepeatedVertexInFace { face: face(f) },
+                other => other,
+            }
+        })?;
         let dropped_vertices = n - kept.len();
         Ok(MeshIntake { mesh, kept, n_host_vertices: n, dropped_faces, dropped_vertices })
     }
@@ -91,14 +110,36 @@ impl MeshIntake {
     }
 }
 
-fn is_degenerate(vertices: &[[f64; 3]], f: &[u32; 3]) -> bool {
+/// Whether face `f` repeats a vertex or has zero area relative to its longest edge:
+/// `area <= DEGENERATE_RATIO * longest_edge^2`, the test [`TriMesh::new`] applies.
+///
+/// Scale-free in floating point too: the edge vectors are divided by their largest
+/// component before the cross product, so the test gives the same answer for a triangle
+/// and for it scaled by 1e-160 or 1e160 (where the area itself would underflow to 0 or
+/// overflow to infinity). Coordinates must be finite.
+pub(super) fn is_degenerate(vertices: &[[f64; 3]], f: &[u32; 3]) -> bool {
     if f[0] == f[1] || f[1] == f[2] || f[0] == f[2] {
         return true;
     }
     let [a, b, c] = f.map(|i| vertices[i as usize]);
-    let l2 = |p: [f64; 3], q: [f64; 3]| (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2);
-    let longest = l2(a, b).max(l2(b, c)).max(l2(c, a));
-    !(triangle_area(a, b, c) > DEGENERATE_RATIO * longest)
+    let sub = |p: [f64; 3], q: [f64; 3]| [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
+    let mut edges = [sub(b, a), sub(c, a), sub(c, b)];
+    if edges.iter().flatten().any(|x| !x.is_finite()) {
+        // Differences of coordinates near f64::MAX overflow; halving is exact there.
+        let half = |p: [f64; 3]| p.map(|x| 0.5 * x);
+        let [a, b, c] = [half(a), half(b), half(c)];
+        edges = [sub(b, a), sub(c, a), sub(c, b)];
+    }
+    let scale = edges.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+    if !(scale > 0.0) {
+        return true;
+    }
+    let [u, v, w] = edges.map(|e| e.map(|x| x / scale));
+    let cross = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+    let area = 0.5 * (cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]).sqrt();
+    let norm2 = |e: [f64; 3]| e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
+    let longest = norm2(u).max(norm2(v)).max(norm2(w));
+    !(area > DEGENERATE_RATIO * longest)
 }
 
 #[cfg(test)]
@@ -127,8 +168,14 @@ mod tests {
         let tri = vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
         assert!(MeshIntake::new(tri.clone(), vec![[0, 1, 3]]).unwrap_err().to_string().contains("vertex 3"));
         assert!(MeshIntake::new(vec![[f64::NAN; 3]], vec![]).is_err());
-        assert!(MeshIntake::new(tri.clone(), vec![[0, 0, 1]]).unwrap_err().to_string().contains("degenerate"));
-        assert!(MeshIntake::new(tri, vec![]).is_err());
+        assert!(MeshIntake::new(tri.clone(), vec![[0, 0, 1]]).unwrap_err().to_string().contains("all 1 faces are degenerate"));
+        assert!(MeshIntake::new(tri, vec![]).unwrap_err().to_string().contains("no faces"));
+        // Errors name the host's vertices: a loose vertex 0 shifts the mesh's numbering by one.
+        let mut v = vec![[9.0; 3]];
+        v.extend([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0]]);
+        let fan = vec![[1, 2, 3], [2, 1, 4], [1, 2, 5]];
+        let e = MeshIntake::new(v, fan).unwrap_err().to_string();
+        assert!(e.contains("edge (1, 2) is shared by 3 faces"), "{e}");
         assert!(MeshIntake::from_flat(&[0.0; 4], &[]).is_err());
     }
 }

@@ -10,10 +10,11 @@
 //! |---|---|
 //! | polygon with `n > 3` vertices `(p0, ..., p{n-1})` | **repaired**: fan-triangulated into `(p0, pk, pk+1)`, `k = 1..n-2`; counted in [`ReadReport::polygons_triangulated`] |
 //! | vertex in no face (isolated) | **error** [`MeshError::IsolatedVertex`] by default; **repaired** (dropped, index map in [`ReadReport::kept_vertices`]) with [`ReadOptions::drop_isolated`] |
-//! | the same triangle more than once | **repaired** by default ([`ReadOptions::remove_duplicate_faces`]): a copy and a reversed copy cancel (a two-sided "flap"), what remains is kept once; vertices used only by removed copies are dropped; counted in [`ReadReport::duplicate_faces_removed`] and [`ReadReport::flap_vertices_dropped`] |
-//! | unreadable file | [`Error::Io`] |
+//! | the same triangle more than once | **repaired** by default ([`ReadOptions::remove_duplicate_faces`]): a copy and a reversed copy cancel (a two-sided "flap"), what remains is kept once; vertices used only by removed copies are dropped; counted in [`ReadReport::duplicate_faces_removed`] and [`ReadReport::flap_vertices_dropped`], listed in [`ReadReport::removed_triangles`] |
+//! | unreadable file; not a regular file (a directory, a device such as `/dev/zero`, a pipe; symbolic links are followed to their target) | [`Error::Io`] |
 //! | bad header, bad number, truncated data, face with fewer than 3 vertices, unknown extension | [`Error::Parse`] (with the line number for text formats) |
-//! | face index out of range, NaN/inf coordinate, no faces, repeated vertex in a face, zero-area face, edge in more than two faces | [`Error::InvalidMeshFile`] with the [`MeshError`] |
+//! | more than the header declares (OFF records after the faces, PLY data after the last element), a second PLY `vertex` or `face` element, an OBJ corner other than `v`, `v/vt`, `v//vn`, `v/vt/vn` with integers | [`Error::Parse`]: the counts or the syntax do not describe the file, and guessing would change the mesh |
+//! | face index out of range, NaN/inf coordinate, no faces, repeated vertex in a face, zero-area face (relative to its longest edge, at any scale), edge in more than two faces | [`Error::InvalidMeshFile`] with the [`MeshError`] |
 //!
 //! The duplicate-face repair exists for real data: SHREC'16 `null/cat.off` has twelve
 //! two-sided flaps (a triangle listed in both orientations, its tip vertex in no other
@@ -25,6 +26,14 @@
 //! colours) would silently stop matching. Degenerate faces and non-manifold edges are
 //! never repaired: removing faces changes the topology (it opens holes, so the
 //! Dirichlet boundary changes), which would change the spectra the file is read for.
+//!
+//! Bounded work on any input: only regular files are read, into one buffer of the file's
+//! size; faces are checked (vertex count, index range) and triangulated as they are read,
+//! so the first bad face ends the read; arrays are reserved from the declared counts only
+//! as far as the rest of the file can hold them; repairs and validation sort instead of
+//! hashing. A valid file takes about 1.5-2x its size in memory, a file of one triangle
+//! repeated about 4x (the `io_memory` test measures it). Tokens quoted in messages are
+//! cut to 40 characters.
 //!
 //! Numbering in messages: face and vertex numbers are 0-based records of the file
 //! (the `k`-th face line of an OFF, the `k`-th face of a PLY), also after triangulation
@@ -40,7 +49,6 @@ mod ply;
 
 use super::TriMesh;
 use crate::error::{Error, MeshError, Result};
-use std::collections::HashMap;
 use std::fs;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -123,6 +131,11 @@ pub struct ReadReport {
     pub kept_vertices: Vec<u32>,
     /// `face_origin[t]` = file face record that mesh triangle `t` comes from.
     pub face_origin: Vec<u32>,
+    /// The triangles removed as repeated copies, in file order: `(face record, its three
+    /// vertices in the file's numbering)`. Data tied to the file's triangles (SHREC'16
+    /// ground truth) finds their vertices here; those the mesh kept are in `kept_vertices`
+    /// (a flap's tip is not).
+    pub removed_triangles: Vec<(u32, [u32; 3])>,
 }
 
 /// Read a mesh, choosing the format from the extension, with default [`ReadOptions`]
@@ -134,11 +147,11 @@ pub fn read_mesh(path: &Path) -> Result<TriMesh> {
 /// Read a mesh and report what was triangulated or dropped.
 pub fn read_mesh_with_report(path: &Path, options: &ReadOptions) -> Result<(TriMesh, ReadReport)> {
     let format = MeshFormat::from_path(path)?;
-    let bytes = fs::read(path).map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    read_mesh_from_bytes(&bytes, format, path, options)
+    let bytes = read_regular_file(path)?;
+    let raw = parse(&bytes, format, path)?;
+    // The text is not needed any more: free it before the mesh is checked.
+    drop(bytes);
+    build(raw, format, path, options)
 }
 
 /// Parse a mesh held in memory. `path` only names the source in error messages.
@@ -148,37 +161,182 @@ pub fn read_mesh_from_bytes(
     path: &Path,
     options: &ReadOptions,
 ) -> Result<(TriMesh, ReadReport)> {
-    let raw = match format {
-        MeshFormat::Off => off::parse(bytes, path)?,
-        MeshFormat::Obj => obj::parse(bytes, path)?,
-        MeshFormat::Ply => ply::parse(bytes, path)?,
-    };
-    build(raw, format, path, options)
+    build(parse(bytes, format, path)?, format, path, options)
 }
 
-/// Vertices and polygons as read, before triangulation and validation.
-/// Indices are 0-based but not yet range-checked (except by the OBJ parser).
-#[derive(Debug, Default)]
+fn parse(bytes: &[u8], format: MeshFormat, path: &Path) -> Result<RawMesh> {
+    match format {
+        MeshFormat::Off => off::parse(bytes, path),
+        MeshFormat::Obj => obj::parse(bytes, path),
+        MeshFormat::Ply => ply::parse(bytes, path),
+    }
+}
+
+/// The bytes of `path`, which must be (or be a symbolic link to) a regular file: a
+/// device (`/dev/zero`), a pipe or a socket could be read without end, a directory not at
+/// all. The buffer is sized from the file's length, and a file that grows while it is
+/// read is an error rather than a partial read.
+fn read_regular_file(path: &Path) -> Result<Vec<u8>> {
+    use std::io::Read;
+    let io = |source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let not_regular = |meta: &fs::Metadata| {
+        let kind = file_kind(meta);
+        let target = match fs::symlink_metadata(path) {
+            Ok(m) if m.file_type().is_symlink() => match fs::canonicalize(path) {
+                Ok(t) => format!(" (a symbolic link to {}, {kind})", t.display()),
+                Err(_) => format!(" (a symbolic link to {kind})"),
+            },
+            _ => format!(" ({kind})"),
+        };
+        io(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            format!("not a regular file{target}; only regular files are read"),
+        ))
+    };
+    // Checked before opening: opening a FIFO would block.
+    let meta = fs::metadata(path).map_err(io)?;
+    if !meta.is_file() {
+        return Err(not_regular(&meta));
+    }
+    let mut file = fs::File::open(path).map_err(io)?;
+    let meta = file.metadata().map_err(io)?;
+    if !meta.is_file() {
+        return Err(not_regular(&meta));
+    }
+    let len = usize::try_from(meta.len()).map_err(|_| {
+        io(std::io::Error::new(
+            std::io::ErrorKind::OutOfMemory,
+            format!("the file's {} bytes do not fit in memory", meta.len()),
+        ))
+    })?;
+    let mut bytes = Vec::new();
+    bytes.try_reserve_exact(len).map_err(|_| {
+        io(std::io::Error::new(
+            std::io::ErrorKind::OutOfMemory,
+            format!("cannot allocate {len} bytes to read the file"),
+        ))
+    })?;
+    (&mut file).take(len as u64).read_to_end(&mut bytes).map_err(io)?;
+    let mut probe = [0u8; 1];
+    if file.read(&mut probe).map_err(io)? > 0 {
+        return Err(io(std::io::Error::other(format!(
+            "the file grew beyond its {len} bytes while being read"
+        ))));
+    }
+    Ok(bytes)
+}
+
+/// What a file that is not a regular file is, for messages.
+fn file_kind(meta: &fs::Metadata) -> &'static str {
+    let t = meta.file_type();
+    if t.is_dir() {
+        return "a directory";
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if t.is_char_device() {
+            return "a character device";
+        }
+        if t.is_block_device() {
+            return "a block device";
+        }
+        if t.is_fifo() {
+            return "a named pipe";
+        }
+        if t.is_socket() {
+            return "a socket";
+        }
+    }
+    "a special file"
+}
+
+/// Vertices and triangles as read, before repairs and validation. The parsers stream
+/// into it: each polygon is checked (at least 3 vertices, indices below the declared
+/// vertex count) and fan-triangulated as soon as it is read, so a bad face fails the
+/// read there instead of after the whole file is held in memory twice.
+#[derive(Debug)]
 pub(crate) struct RawMesh {
     pub positions: Vec<[f64; 3]>,
-    /// Polygon `p` is `indices[offsets[p]..offsets[p + 1]]`; `offsets[0] = 0`.
-    pub indices: Vec<u64>,
-    pub offsets: Vec<usize>,
+    pub triangles: Vec<[u32; 3]>,
+    /// `face_origin[t]` = face record of triangle `t`.
+    pub face_origin: Vec<u32>,
+    /// Face records read so far.
+    pub n_polygons: usize,
+    pub polygons_triangulated: usize,
+    /// Vertex count the indices are checked against (the header's, or counted ahead).
+    n_vertices: u64,
+    /// Triangles to reserve room for once the first face is accepted.
+    triangles_hint: usize,
 }
 
 impl RawMesh {
-    pub(crate) fn new() -> Self {
-        RawMesh {
-            positions: Vec::new(),
-            indices: Vec::new(),
-            offsets: vec![0],
+    /// An empty mesh whose faces may use vertices `0..n_vertices` (at most 2^32 - 1).
+    pub(crate) fn new(n_vertices: usize, path: &Path) -> Result<Self> {
+        if n_vertices > u32::MAX as usize {
+            return Err(parse_error(
+                path,
+                format!("{n_vertices} vertices is more than the 2^32 - 1 supported"),
+            ));
         }
+        Ok(RawMesh {
+            positions: Vec::new(),
+            triangles: Vec::new(),
+            face_origin: Vec::new(),
+            n_polygons: 0,
+            polygons_triangulated: 0,
+            n_vertices: n_vertices as u64,
+            triangles_hint: 0,
+        })
     }
-    pub(crate) fn n_polygons(&self) -> usize {
-        self.offsets.len() - 1
+
+    /// Reserve room for `vertices` now and for `triangles` when the first face is accepted
+    /// (a file whose first face is bad reserves nothing for faces): hints the caller has
+    /// capped by what the rest of the file can hold, so a lying header cannot exhaust memory.
+    pub(crate) fn reserve(&mut self, vertices: usize, triangles: usize) {
+        self.positions.reserve_exact(vertices);
+        self.triangles_hint = self.triangles_hint.max(triangles);
     }
-    pub(crate) fn end_polygon(&mut self) {
-        self.offsets.push(self.indices.len());
+
+    /// Add face record `n_polygons` with vertex indices `poly`, fan-triangulated into
+    /// `(p0, pk, pk+1)`. `line` (text formats) prefixes the message of a short face.
+    pub(crate) fn push_polygon(&mut self, poly: &[u64], path: &Path, line: Option<usize>) -> Result<()> {
+        let p = self.n_polygons;
+        if poly.len() < 3 {
+            let at = line.map_or(String::new(), |l| format!("line {l}: "));
+            return Err(parse_error(
+                path,
+                format!("{at}face {p} has {} vertices; a face needs at least 3", poly.len()),
+            ));
+        }
+        if let Some(&index) = poly.iter().find(|&&i| i >= self.n_vertices) {
+            return Err(mesh_error(
+                path,
+                MeshError::IndexOutOfRange {
+                    face: p,
+                    index,
+                    n_vertices: self.n_vertices as usize,
+                },
+            ));
+        }
+        let p32 = u32::try_from(p).map_err(|_| parse_error(path, "more than 2^32 - 1 faces"))?;
+        if poly.len() > 3 {
+            self.polygons_triangulated += 1;
+        }
+        if self.triangles_hint > 0 {
+            self.triangles.reserve_exact(self.triangles_hint);
+            self.face_origin.reserve_exact(self.triangles_hint);
+            self.triangles_hint = 0;
+        }
+        for k in 1..poly.len() - 1 {
+            self.triangles.push([poly[0] as u32, poly[k] as u32, poly[k + 1] as u32]);
+            self.face_origin.push(p32);
+        }
+        self.n_polygons += 1;
+        Ok(())
     }
 }
 
@@ -196,10 +354,33 @@ fn mesh_error(path: &Path, source: MeshError) -> Error {
     }
 }
 
-/// Range-check, fan-triangulate, optionally drop isolated vertices, validate; every
-/// error is translated back to the file's numbering.
+/// Longest text quoted from a file in a message; longer tokens are cut with `...`.
+const QUOTE_CHARS: usize = 40;
+
+/// `'text'` for a message: at most [`QUOTE_CHARS`] characters, then `...` and the length,
+/// so that a 20 MB token does not become a 20 MB error line.
+pub(crate) fn quote(text: &str) -> String {
+    match text.char_indices().nth(QUOTE_CHARS) {
+        None => format!("'{text}'"),
+        Some((cut, _)) => format!("'{}...' ({} bytes)", &text[..cut], text.len()),
+    }
+}
+
+/// Check, repair and validate: remove duplicate triangles, drop flap tips (and isolated
+/// vertices when asked), build the [`TriMesh`]; every error is translated back to the
+/// file's numbering. Works in place: besides the mesh and the report it allocates about
+/// 5 bytes per triangle and 6 per vertex, 16 per removed triangle (listed in the report),
+/// and validation 12 per triangle.
 fn build(raw: RawMesh, format: MeshFormat, path: &Path, options: &ReadOptions) -> Result<(TriMesh, ReadReport)> {
-    let n = raw.positions.len();
+    let RawMesh {
+        mut positions,
+        triangles: mut faces,
+        mut face_origin,
+        n_polygons,
+        polygons_triangulated,
+        ..
+    } = raw;
+    let n = positions.len();
     if n > u32::MAX as usize {
         return Err(parse_error(
             path,
@@ -209,114 +390,121 @@ fn build(raw: RawMesh, format: MeshFormat, path: &Path, options: &ReadOptions) -
     if n == 0 {
         return Err(mesh_error(path, MeshError::NoVertices));
     }
-    let mut faces: Vec<[u32; 3]> = Vec::with_capacity(raw.n_polygons());
-    let mut face_origin: Vec<u32> = Vec::with_capacity(raw.n_polygons());
-    let mut polygons_triangulated = 0;
-    for p in 0..raw.n_polygons() {
-        let poly = &raw.indices[raw.offsets[p]..raw.offsets[p + 1]];
-        if poly.len() < 3 {
-            return Err(parse_error(
-                path,
-                format!("face {p} has {} vertices; a face needs at least 3", poly.len()),
-            ));
-        }
-        if let Some(&index) = poly.iter().find(|&&i| i >= n as u64) {
-            return Err(mesh_error(
-                path,
-                MeshError::IndexOutOfRange {
-                    face: p,
-                    index,
-                    n_vertices: n,
-                },
-            ));
-        }
-        if poly.len() > 3 {
-            polygons_triangulated += 1;
-        }
-        let p32 = u32::try_from(p).map_err(|_| parse_error(path, "more than 2^32 - 1 faces"))?;
-        for k in 1..poly.len() - 1 {
-            faces.push([poly[0] as u32, poly[k] as u32, poly[k + 1] as u32]);
-            face_origin.push(p32);
-        }
+    // The parsers checked indices against the declared count; the count read must agree.
+    if let Some((t, &index)) = faces
+        .iter()
+        .enumerate()
+        .find_map(|(t, f)| f.iter().find(|&&i| i as usize >= n).map(|i| (t, i)))
+    {
+        return Err(mesh_error(
+            path,
+            MeshError::IndexOutOfRange {
+                face: face_origin[t] as usize,
+                index: index as u64,
+                n_vertices: n,
+            },
+        ));
     }
-    let file_vertices = n;
     let mut used_in_file = vec![false; n];
     faces.iter().flatten().for_each(|&i| used_in_file[i as usize] = true);
     let mut duplicate_faces_removed = 0;
+    let mut removed_triangles = Vec::new();
     if options.remove_duplicate_faces {
         let keep = duplicate_free(&faces);
         duplicate_faces_removed = keep.iter().filter(|&&k| !k).count();
         if duplicate_faces_removed > 0 {
+            removed_triangles.reserve_exact(duplicate_faces_removed);
+            removed_triangles.extend((0..faces.len()).filter(|&t| !keep[t]).map(|t| (face_origin[t], faces[t])));
             let mut it = keep.iter();
             faces.retain(|_| *it.next().unwrap_or(&true));
             let mut it = keep.iter();
             face_origin.retain(|_| *it.next().unwrap_or(&true));
         }
     }
+    faces.shrink_to_fit();
+    face_origin.shrink_to_fit();
     if faces.is_empty() {
         return Err(mesh_error(path, MeshError::NoFaces));
     }
     let mut used = vec![false; n];
     faces.iter().flatten().for_each(|&i| used[i as usize] = true);
     // Drop flap tips always, file-isolated vertices only when asked.
-    let drop = |i: usize| !used[i] && (used_in_file[i] || options.drop_isolated);
+    let dropped = |i: usize| !used[i] && (used_in_file[i] || options.drop_isolated);
     let flap_vertices_dropped = (0..n).filter(|&i| !used[i] && used_in_file[i]).count();
     let isolated_dropped = if options.drop_isolated {
         used_in_file.iter().filter(|&&u| !u).count()
     } else {
         0
     };
-    let mut positions = raw.positions;
     let mut kept_vertices: Vec<u32> = (0..n as u32).collect();
-    if (0..n).any(drop) {
-        kept_vertices.retain(|&i| !drop(i as usize));
+    if (0..n).any(dropped) {
+        kept_vertices.retain(|&i| !dropped(i as usize));
+        kept_vertices.shrink_to_fit();
         let mut new_index = vec![u32::MAX; n];
         for (new, &old) in kept_vertices.iter().enumerate() {
             new_index[old as usize] = new as u32;
         }
-        positions = kept_vertices.iter().map(|&i| positions[i as usize]).collect();
+        // In place: kept vertices move down, in order.
+        for (new, &old) in kept_vertices.iter().enumerate() {
+            positions[new] = positions[old as usize];
+        }
+        positions.truncate(kept_vertices.len());
+        positions.shrink_to_fit();
         for f in &mut faces {
             *f = f.map(|i| new_index[i as usize]);
         }
     }
+    drop(used_in_file);
     let mesh = TriMesh::new(positions, faces)
         .map_err(|e| mesh_error(path, to_file_numbering(e, &face_origin, &kept_vertices)))?;
     let report = ReadReport {
         format,
-        file_vertices,
-        file_faces: raw.offsets.len() - 1,
+        file_vertices: n,
+        file_faces: n_polygons,
         polygons_triangulated,
         isolated_dropped,
         duplicate_faces_removed,
         flap_vertices_dropped,
         kept_vertices,
         face_origin,
+        removed_triangles,
     };
     Ok((mesh, report))
 }
 
 /// `keep[t]` for every triangle: a triangle and its reverse cancel (oriented 2-chains);
-/// of the copies left, all in one orientation, the first is kept.
+/// of the copies left, all in one orientation, the first is kept. Copies are found by
+/// sorting triangle numbers by vertex set (4 bytes per triangle, no hash table).
 fn duplicate_free(faces: &[[u32; 3]]) -> Vec<bool> {
     // Rotate the smallest index first: same set and same orientation <=> same rotation.
     let rotated = |f: [u32; 3]| {
         let m = (0..3).min_by_key(|&c| f[c]).unwrap_or(0);
         [f[m], f[(m + 1) % 3], f[(m + 2) % 3]]
     };
-    let mut copies: HashMap<[u32; 3], Vec<usize>> = HashMap::new();
-    for (t, f) in faces.iter().enumerate() {
-        let mut key = *f;
+    let set = |t: u32| {
+        let mut key = faces[t as usize];
         key.sort_unstable();
-        copies.entry(key).or_default().push(t);
-    }
+        key
+    };
     let mut keep = vec![true; faces.len()];
-    for group in copies.values().filter(|g| g.len() > 1) {
-        let first = rotated(faces[group[0]]);
-        let (same, other): (Vec<usize>, Vec<usize>) = group.iter().partition(|&&t| rotated(faces[t]) == first);
-        group.iter().for_each(|&t| keep[t] = false);
-        if same.len() != other.len() {
-            let survivor = if same.len() > other.len() { same[0] } else { other[0] };
-            keep[survivor] = true;
+    let Ok(m) = u32::try_from(faces.len()) else {
+        return keep;
+    };
+    let mut order: Vec<u32> = (0..m).collect();
+    // By vertex set, then by file order within a set.
+    order.sort_unstable_by(|&s, &t| set(s).cmp(&set(t)).then(s.cmp(&t)));
+    for group in order.chunk_by(|&s, &t| set(s) == set(t)).filter(|g| g.len() > 1) {
+        let first = rotated(faces[group[0] as usize]);
+        let same = group.iter().filter(|&&t| rotated(faces[t as usize]) == first).count();
+        let other = group.len() - same;
+        group.iter().for_each(|&t| keep[t as usize] = false);
+        if same != other {
+            let survivor = group
+                .iter()
+                .find(|&&t| (rotated(faces[t as usize]) == first) == (same > other))
+                .copied()
+                .unwrap_or(group[0]);
+            keep[survivor as usize] = true;
         }
     }
     keep

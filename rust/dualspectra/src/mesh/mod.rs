@@ -8,7 +8,6 @@ pub mod intake;
 pub mod io;
 
 use crate::error::MeshError;
-use std::collections::HashMap;
 
 /// A validated triangle mesh: finite vertex positions `V (n x 3)` and faces `F (m x 3)`,
 /// 0-based, consistently usable by every later stage.
@@ -140,26 +139,39 @@ fn validate(vertices: &[[f64; 3]], faces: &[[u32; 3]]) -> Result<(), MeshError> 
             return Err(MeshError::RepeatedVertexInFace { face: fi });
         }
     }
-    // Degenerate: zero area relative to the squared longest edge (scale-free test).
-    for (fi, f) in faces.iter().enumerate() {
-        let [a, b, c] = f.map(|i| vertices[i as usize]);
-        let area = triangle_area(a, b, c);
-        let l2 = |p: [f64; 3], q: [f64; 3]| (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2);
-        let longest = l2(a, b).max(l2(b, c)).max(l2(c, a));
-        if !(area > 1e-14 * longest) {
-            return Err(MeshError::DegenerateFace { face: fi });
-        }
+    // Degenerate: zero area relative to the squared longest edge, computed without
+    // under/overflow at any scale (see `intake::is_degenerate`).
+    if let Some(fi) = faces.iter().position(|f| intake::is_degenerate(vertices, f)) {
+        return Err(MeshError::DegenerateFace { face: fi });
     }
-    let mut edge_count: HashMap<(u32, u32), usize> = HashMap::with_capacity(faces.len() * 3 / 2 + 1);
+    // Edge-manifold: each undirected edge (a < b) in at most two faces. The edges are
+    // bucketed by `a` (counting sort) and each bucket sorted: 12 bytes per face, where a
+    // hash map of edges takes about 40. The smallest offending (a, b) is reported.
+    let edge = |f: &[u32; 3], e: usize| (f[e].min(f[(e + 1) % 3]), f[e].max(f[(e + 1) % 3]));
+    // pos[a]: end of bucket a after the prefix sum, its start once the bucket is filled.
+    let mut pos = vec![0usize; n + 1];
+    for f in faces {
+        (0..3).for_each(|e| pos[edge(f, e).0 as usize] += 1);
+    }
+    for a in 1..=n {
+        pos[a] += pos[a - 1];
+    }
+    let mut other = vec![0u32; 3 * faces.len()];
     for f in faces {
         for e in 0..3 {
-            let (a, b) = (f[e], f[(e + 1) % 3]);
-            *edge_count.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+            let (a, b) = edge(f, e);
+            pos[a as usize] -= 1;
+            other[pos[a as usize]] = b;
         }
     }
-    if let Some((&(a, b), &count)) = edge_count.iter().filter(|(_, &c)| c > 2).min_by_key(|(k, _)| **k) {
-        return Err(MeshError::NonManifoldEdge { a, b, count });
+    for a in 0..n {
+        let bucket = &mut other[pos[a]..pos[a + 1]];
+        bucket.sort_unstable();
+        if let Some(run) = bucket.chunk_by(|x, y| x == y).find(|run| run.len() > 2) {
+            return Err(MeshError::NonManifoldEdge { a: a as u32, b: run[0], count: run.len() });
+        }
     }
+    drop(other);
     let mut used = vec![false; n];
     faces.iter().flatten().for_each(|&i| used[i as usize] = true);
     let isolated = used.iter().filter(|&&u| !u).count();

@@ -5,13 +5,19 @@
 //! `nv` vertex lines (`x y z`, further values ignored), then `nf` face lines
 //! (`n i0 .. i{n-1}`, further values such as a colour ignored). `#` starts a comment.
 //! The reader is line-based (one record per line), as written by MeshLab, CGAL, libigl
-//! and the SHREC'16 files. Binary OFF and 4-D/n-D OFF are rejected.
+//! and the SHREC'16 files. Binary OFF and 4-D/n-D OFF are rejected, and so is any record
+//! after the declared faces (a header that undercounts the faces would otherwise drop some).
 
-use super::{content_lines, parse_error, RawMesh};
+use super::{content_lines, parse_error, quote, RawMesh};
 use crate::error::Result;
 use crate::mesh::TriMesh;
 use std::io::Write;
 use std::path::Path;
+
+/// Shortest vertex line (`0 0 0\n`) and face line (`3 0 1 2\n`), in bytes: the declared
+/// counts reserve no more records than the rest of the file can hold.
+const MIN_VERTEX_LINE: usize = 6;
+const MIN_FACE_LINE: usize = 8;
 
 pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<RawMesh> {
     let text = String::from_utf8_lossy(bytes);
@@ -42,15 +48,15 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<RawMesh> {
         return Err(parse_error(
             path,
             format!(
-                "line {count_line}: bad header: expected vertex, face and edge counts, found '{}'",
-                counts.join(" ")
+                "line {count_line}: bad header: expected vertex, face and edge counts, found {}",
+                quote(&counts.join(" "))
             ),
         ));
     };
-    let mut raw = RawMesh::new();
-    // Capacity hints are capped so that a lying header cannot exhaust memory.
-    raw.positions.reserve(nv.min(1 << 24));
-    raw.offsets.reserve(nf.min(1 << 24));
+    let mut raw = RawMesh::new(nv, path)?;
+    let vertex_room = nv.min(bytes.len() / MIN_VERTEX_LINE);
+    let face_room = nf.min((bytes.len() - vertex_room * MIN_VERTEX_LINE) / MIN_FACE_LINE + 1);
+    raw.reserve(vertex_room, face_room);
     for v in 0..nv {
         let (l, line) = lines
             .next()
@@ -61,15 +67,16 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<RawMesh> {
             let tok = it.next().ok_or_else(|| {
                 parse_error(
                     path,
-                    format!("line {l}: vertex {v} has fewer than 3 coordinates: '{line}'"),
+                    format!("line {l}: vertex {v} has fewer than 3 coordinates: {}", quote(line)),
                 )
             })?;
             *c = tok
                 .parse::<f64>()
-                .map_err(|_| parse_error(path, format!("line {l}: vertex {v}: '{tok}' is not a number")))?;
+                .map_err(|_| parse_error(path, format!("line {l}: vertex {v}: {} is not a number", quote(tok))))?;
         }
         raw.positions.push(xyz);
     }
+    let mut poly: Vec<u64> = Vec::new();
     for f in 0..nf {
         let (l, line) = lines
             .next()
@@ -79,9 +86,10 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<RawMesh> {
         let k: usize = first.parse().map_err(|_| {
             parse_error(
                 path,
-                format!("line {l}: face {f}: vertex count '{first}' is not a non-negative integer"),
+                format!("line {l}: face {f}: vertex count {} is not a non-negative integer", quote(first)),
             )
         })?;
+        poly.clear();
         for j in 0..k {
             let tok = it.next().ok_or_else(|| {
                 parse_error(
@@ -92,12 +100,23 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<RawMesh> {
             let i: u64 = tok.parse().map_err(|_| {
                 parse_error(
                     path,
-                    format!("line {l}: face {f}: vertex index '{tok}' is not a non-negative integer"),
+                    format!("line {l}: face {f}: vertex index {} is not a non-negative integer", quote(tok)),
                 )
             })?;
-            raw.indices.push(i);
+            poly.push(i);
         }
-        raw.end_polygon();
+        raw.push_polygon(&poly, path, Some(l))?;
+    }
+    // A closed mesh whose header undercounts its faces would otherwise come back open.
+    if let Some((l, line)) = lines.next() {
+        return Err(parse_error(
+            path,
+            format!(
+                "line {l}: {} after the {nv} vertices and {nf} faces the header declares \
+                 (is the header's face count wrong?)",
+                quote(line)
+            ),
+        ));
     }
     Ok(raw)
 }
