@@ -1,27 +1,92 @@
 #include "filter_dualspectra.h"
 
+#include <QJsonArray>
+#include <QJsonDocument>
+#include <QJsonObject>
+
+#include <climits>
 #include <limits>
+#include <memory>
+#include <vector>
 
 #include "layer_arrays.h"
-#include "localize_job.h"
 
 namespace {
 
-/// Names shown in the "Mode" drop-down, in the order of DS_MODE_DUAL, DS_MODE_LBO, DS_MODE_SI.
-QStringList modeNames()
+/// One option of the library's table (ds_options_schema_json): a filter parameter of the same
+/// name.
+struct OptionParam {
+    QString name, label, doc, type; ///< type: "int", "float" or "choice"
+    QJsonValue defaultValue, min, max;
+    QStringList choices;
+};
+
+/// The library's options, parsed once (empty only if the library's JSON were unreadable).
+const std::vector<OptionParam>& optionParams()
 {
-    return QStringList() << "dual (regular + scale-invariant)" << "lbo (Laplace-Beltrami only)"
-                         << "si (scale-invariant only)";
+    static const std::vector<OptionParam> params = [] {
+        std::vector<OptionParam> out;
+        const QJsonArray list = QJsonDocument::fromJson(QByteArray(ds_options_schema_json())).array();
+        for (const QJsonValue& entry : list) {
+            const QJsonObject o = entry.toObject();
+            OptionParam p;
+            p.name = o.value("name").toString();
+            p.label = o.value("label").toString();
+            p.doc = o.value("doc").toString();
+            p.type = o.value("type").toString();
+            p.defaultValue = o.value("default");
+            p.min = o.value("min");
+            p.max = o.value("max");
+            for (const QJsonValue& c : o.value("choices").toArray()) p.choices << c.toString();
+            out.push_back(p);
+        }
+        return out;
+    }();
+    return params;
 }
 
-ds_mode modeOfIndex(int i)
+/// The tooltip: the library's doc and the range.
+QString tooltip(const OptionParam& p)
 {
-    switch (i) {
-    case 1: return DS_MODE_LBO;
-    case 2: return DS_MODE_SI;
-    default: return DS_MODE_DUAL;
-    }
+    if (p.type == "choice") return p.doc + " One of: " + p.choices.join(", ") + ".";
+    const QString max = p.max.toDouble() >= double(INT_MAX) && p.type == "int" ? QString::number(INT_MAX)
+                                                                                 : QString::number(p.max.toDouble());
+    return p.doc + QString(" Range: %1 to %2.").arg(QString::number(p.min.toDouble()), max);
 }
+
+/// The parameter of `p` with the library's default.
+RichParameter* richParameter(const OptionParam& p)
+{
+    if (p.type == "int") {
+        const double def = std::min(p.defaultValue.toDouble(), double(INT_MAX));
+        return new RichInt(p.name, int(def), p.label, tooltip(p));
+    }
+    if (p.type == "float") return new RichFloat(p.name, float(p.defaultValue.toDouble()), p.label, tooltip(p));
+    const int index = std::max(0, p.choices.indexOf(p.defaultValue.toString()));
+    return new RichEnum(p.name, index, p.choices, p.label, tooltip(p));
+}
+
+/// The value of `p` in `par` as the text the library parses; empty with `error` set if a
+/// choice index is out of range.
+QString parameterText(const OptionParam& p, const RichParameterList& par, QString& error)
+{
+    if (p.type == "int") return QString::number(par.getInt(p.name));
+    if (p.type == "float") return QString::number(double(par.getFloat(p.name)), 'g', 7);
+    const int i = par.getEnum(p.name);
+    if (i < 0 || i >= p.choices.size()) {
+        error = QString("%1: choice %2 is out of range (%3 choices: %4)")
+                    .arg(p.name)
+                    .arg(i)
+                    .arg(p.choices.size())
+                    .arg(p.choices.join(", "));
+        return QString();
+    }
+    return p.choices[i];
+}
+
+struct OptionsDeleter {
+    void operator()(ds_options* o) const { ds_options_destroy(o); }
+};
 
 /// The first layer of `md` other than `notThis` (or `notThis` when it is the only one).
 MeshModel* otherLayer(MeshDocument& md, MeshModel* notThis)
@@ -97,7 +162,6 @@ int FilterDualSpectraPlugin::postCondition(QAction*) const
 void FilterDualSpectraPlugin::initParameterSet(QAction* action, MeshDocument& md, RichParameterList& par)
 {
     if (ID(action) != FP_LOCALIZE_PARTIAL) return;
-    const ds_options def = ds_options_default();
     MeshModel* full = md.mm();
     // RichMesh asserts (active in Debian's build) that a non-null default is in the document.
     MeshDocument* doc = (full != nullptr && md.meshList.contains(full)) ? &md : nullptr;
@@ -106,26 +170,11 @@ void FilterDualSpectraPlugin::initParameterSet(QAction* action, MeshDocument& md
     par.addParam(RichMesh("PartialMesh", doc ? otherLayer(md, full) : nullptr, doc, "Partial mesh",
                           "The part to localize: a triangle mesh, possibly a deformed copy of a part of the "
                           "full mesh. It must be a different layer with faces (not a point cloud)."));
-    par.addParam(RichEnum("Mode", 0, modeNames(), "Mode",
-                          "Which spectra are matched: dual = k regular + k scale-invariant eigenvalues (the "
-                          "paper's method); lbo = 2k Laplace-Beltrami eigenvalues; si = 2k scale-invariant "
-                          "eigenvalues."));
-    par.addParam(RichInt("K", int(def.k), "Eigenvalues per spectrum (k)",
-                         "Number of eigenvalues per spectrum. More is slower and more discriminative."));
-    par.addParam(RichFloat("Alpha", float(def.alpha), "Scale-invariant exponent (alpha)",
-                           "Exponent of the scale-invariant metric factor (eps + K^2)^(alpha/2), K the Gaussian "
-                           "curvature."));
-    par.addParam(RichInt("Seed", int(def.seed), "Random seed",
-                         "Seed of every random choice: the same seed gives the same selection."));
-    par.addParam(RichInt("SpectralCuts", int(def.spectral_cuts), "Spectral-cut starts",
-                         "Further starts from the full mesh's first N eigenfunctions, two each: the region on "
-                         "either side of a level set with the partial's area. For a part cut across a natural "
-                         "axis (e.g. the left half of a body); 0 = none. Each adds ~15% to the time."));
-    par.addParam(RichInt("PlaneCuts", int(def.plane_cuts), "Plane-cut starts",
-                         "Further starts, one per direction: the side of a plane with the partial's area, normal "
-                         "to the first N of 26 directions (6: both ways along the full mesh's principal axes; 14: "
-                         "and the diagonals; 26: and the face diagonals). For a part cut off across the body; "
-                         "0 = none. Each adds ~5% to the time."));
+    // The localizer's options, as the library lists them (names, labels, defaults, docs).
+    for (const OptionParam& p : optionParams()) {
+        std::unique_ptr<RichParameter> rp(richParameter(p));
+        par.addParam(*rp);
+    }
     par.addParam(RichBool("WriteScore", false, "Score to vertex quality and colour",
                           "Also write the per-vertex membership score in [0, 1] to the vertex quality of the "
                           "full mesh and colour it (red = in the region, blue = outside)."));
@@ -135,23 +184,21 @@ bool FilterDualSpectraPlugin::applyFilter(QAction* action, MeshDocument& /*md*/,
                                           vcg::CallBackPos* cb)
 {
     if (ID(action) != FP_LOCALIZE_PARTIAL) return fail("unknown filter");
-    const int k = par.getInt("K");
-    const int seed = par.getInt("Seed");
-    if (k < 1) return fail(QString("k must be at least 1 (got %1)").arg(k));
-    if (seed < 0) return fail(QString("the seed must be non-negative (got %1)").arg(seed));
-    const int cuts = par.getInt("SpectralCuts");
-    if (cuts < 0) return fail(QString("the number of spectral cuts must be non-negative (got %1)").arg(cuts));
-    const int planes = par.getInt("PlaneCuts");
-    if (planes < 0) return fail(QString("the number of plane cuts must be non-negative (got %1)").arg(planes));
-    ds_options options = ds_options_default();
-    options.mode = modeOfIndex(par.getEnum("Mode"));
-    options.k = size_t(k);
-    options.alpha = double(par.getFloat("Alpha"));
-    options.seed = uint64_t(seed);
-    options.spectral_cuts = size_t(cuts);
-    options.plane_cuts = size_t(planes);
-    return localizePartial(par.getMesh("FullMesh"), par.getMesh("PartialMesh"), options, par.getBool("WriteScore"),
-                           cb);
+    if (optionParams().empty()) return fail("the library's option table could not be read");
+    ds_options* raw = nullptr;
+    if (ds_options_create(&raw) != DS_OK) return fail(QString("options: ") + ds_last_error_message());
+    std::unique_ptr<ds_options, OptionsDeleter> options(raw);
+    // Each value goes to the library by name, as text; the library checks it and names the
+    // option and its range when it refuses it.
+    for (const OptionParam& p : optionParams()) {
+        QString error;
+        const QString text = parameterText(p, par, error);
+        if (!error.isEmpty()) return fail(error);
+        if (ds_options_set(options.get(), qUtf8Printable(p.name), qUtf8Printable(text)) != DS_OK)
+            return fail(QString::fromUtf8(ds_last_error_message()));
+    }
+    return localizePartial(par.getMesh("FullMesh"), par.getMesh("PartialMesh"), options.get(),
+                           par.getBool("WriteScore"), cb);
 }
 
 bool FilterDualSpectraPlugin::fail(const QString& message)
@@ -161,7 +208,7 @@ bool FilterDualSpectraPlugin::fail(const QString& message)
     return false;
 }
 
-bool FilterDualSpectraPlugin::localizePartial(MeshModel* full, MeshModel* partial, const ds_options& options,
+bool FilterDualSpectraPlugin::localizePartial(MeshModel* full, MeshModel* partial, const ds_options* options,
                                               bool writeScore, vcg::CallBackPos* cb)
 {
     if (full == nullptr || partial == nullptr) return fail("choose a full and a partial layer");
@@ -178,19 +225,22 @@ bool FilterDualSpectraPlugin::localizePartial(MeshModel* full, MeshModel* partia
 
     const dsml::PackedLayer fullArrays = dsml::pack_layer(full->cm);
     const dsml::PackedLayer partialArrays = dsml::pack_layer(partial->cm);
-    if (fullArrays.n_unreferenced_vertices > 0)
-        Log(GLLogStream::WARNING, "Localize partial shape: %zu vertices of '%s' belong to no face; they are ignored",
-            fullArrays.n_unreferenced_vertices, qUtf8Printable(full->label()));
-
-    const dsml::LocalizeOutcome out = dsml::run_localize(fullArrays, partialArrays, options, cb);
+    const dsml::LocalizeOutcome out =
+        dsml::run_localize(localizers, full->id(), fullArrays, partialArrays, options, cb);
     if (out.status != DS_OK) {
         QString message = QString::fromStdString(out.error);
-        const size_t skipped = fullArrays.n_deleted_vertices + fullArrays.n_unreferenced_vertices +
-                               partialArrays.n_deleted_vertices + partialArrays.n_unreferenced_vertices;
-        if (out.status == DS_INVALID_MESH && skipped > 0)
-            message += "; vertex numbers count only the live vertices used by faces";
+        if (out.status == DS_INVALID_MESH && fullArrays.n_deleted_vertices + partialArrays.n_deleted_vertices > 0)
+            message += "; vertex numbers count only the layer's live (not deleted) vertices";
         return fail(message);
     }
+    if (out.reused)
+        Log("Localize partial shape: reused the full shape '%s' prepared by an earlier call (same mesh and options)",
+            qUtf8Printable(full->label()));
+    else
+        Log("Localize partial shape: prepared the full shape '%s' in %.2f s (%zu optimisation vertices); kept for "
+            "further parts on this layer",
+            qUtf8Printable(full->label()), out.preparation_seconds, out.optimisation_vertices);
+    for (const std::string& w : out.warnings) Log(GLLogStream::WARNING, "Localize partial shape: %s", w.c_str());
 
     const size_t n = dsml::select_region(full->cm, fullArrays, out.region.data());
     full->cm.svn = int(n);
@@ -200,12 +250,11 @@ bool FilterDualSpectraPlugin::localizePartial(MeshModel* full, MeshModel* partia
         dsml::write_quality(full->cm, fullArrays, out.score.data());
         vcg::tri::UpdateColor<CMeshO>::PerVertexQualityRamp(full->cm, Scalarm(1), Scalarm(0));
     }
-    const char* modeName = options.mode == DS_MODE_LBO ? "lbo" : options.mode == DS_MODE_SI ? "si" : "dual";
-    Log("Localized '%s' on '%s': %zu of %zu vertices selected (%.1f%%), %d faces; cost %.6g; %.2f s "
-        "(mode %s, k %zu, alpha %.3g, seed %llu)",
+    const char* json = ds_options_json(options);
+    Log("Localized '%s' on '%s': %zu of %zu vertices selected (%.1f%%), %d faces; cost %.6g; %.2f s; options %s",
         qUtf8Printable(partial->label()), qUtf8Printable(full->label()), n, fullArrays.n_vertices(),
         100.0 * double(n) / double(std::max<size_t>(1, fullArrays.n_vertices())), full->cm.sfn, out.cost, out.seconds,
-        modeName, options.k, options.alpha, static_cast<unsigned long long>(options.seed));
+        json != nullptr ? json : "");
     return true;
 }
 

@@ -1,12 +1,16 @@
 // MeshLab 2020.09 filter plugin: "Localize partial shape (dual spectra)".
 // Selects, on a full mesh layer, the region that a partial (possibly deformed) mesh layer is.
-// Only MeshLab glue: the computation is the dualspectra C ABI (see localize_job.h).
+// Only MeshLab glue: the computation is the dualspectra C ABI (see localize_job.h). The
+// localizer's parameters are built from the library's option table (ds_options_schema_json),
+// so a new option of the library needs no edit here.
 #ifndef DUALSPECTRA_MESHLAB_FILTER_H
 #define DUALSPECTRA_MESHLAB_FILTER_H
 
 #include <common/interfaces.h>
 
 #include <dualspectra/dualspectra.h>
+
+#include "localize_job.h"
 
 class FilterDualSpectraPlugin : public QObject, public MeshFilterInterface
 {
@@ -32,9 +36,12 @@ public:
 private:
     /// The filter itself, with typed parameters. On failure: false, `errorMessage` set and
     /// the same text logged as a warning (meshlabserver prints the log, not errorMessage).
-    bool localizePartial(MeshModel* full, MeshModel* partial, const ds_options& options, bool writeScore,
+    bool localizePartial(MeshModel* full, MeshModel* partial, const ds_options* options, bool writeScore,
                          vcg::CallBackPos* cb);
     bool fail(const QString& message);
+
+    /// Prepared full shapes, kept per full layer between calls (see dsml::LocalizerCache).
+    dsml::LocalizerCache localizers;
 };
 
 #endif

@@ -4,12 +4,42 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <cstdio>
 #include <exception>
-#include <memory>
-#include <mutex>
 #include <thread>
 
 namespace dsml {
+
+// ---------------------------------------------------------------------------------------------
+// LocalizerCache
+
+LocalizerCache::Localizer LocalizerCache::find(int layer, const std::string& key)
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = entries_.find(layer);
+    if (it == entries_.end() || it->second.key != key) return nullptr;
+    it->second.last_use = ++clock_;
+    return it->second.localizer;
+}
+
+void LocalizerCache::keep(int layer, const std::string& key, Localizer localizer)
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    entries_[layer] = Entry{key, std::move(localizer), ++clock_};
+    while (entries_.size() > capacity_) {
+        auto oldest = std::min_element(entries_.begin(), entries_.end(), [](const auto& a, const auto& b) {
+            return a.second.last_use < b.second.last_use;
+        });
+        entries_.erase(oldest);
+    }
+}
+
+void LocalizerCache::clear()
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    entries_.clear();
+}
+
 namespace {
 
 struct MeshDeleter {
@@ -28,7 +58,18 @@ struct Shared {
     bool done = false;
     double fraction = 0.0;
     std::string stage = "starting";
+    /// The part of the whole job the current library call reports into.
+    double lo = 0.0, hi = 1.0;
+    std::string phase;
     std::atomic<bool> cancel{false};
+
+    void enter(double a, double b, const char* name)
+    {
+        std::lock_guard<std::mutex> lock(mutex);
+        lo = a;
+        hi = b;
+        phase = name;
+    }
 };
 
 /// `ds_progress_fn`: record the progress for the caller's thread; 0 asks the library to stop.
@@ -38,8 +79,8 @@ int record_progress(double fraction, const char* stage, void* user)
     auto* s = static_cast<Shared*>(user);
     try {
         std::lock_guard<std::mutex> lock(s->mutex);
-        s->fraction = fraction;
-        if (stage != nullptr) s->stage = stage;
+        s->fraction = s->lo + (s->hi - s->lo) * fraction;
+        if (stage != nullptr) s->stage = s->phase + stage;
     } catch (...) {
         // keep the previous stage text on allocation failure
     }
@@ -59,23 +100,55 @@ std::string describe(ds_status status, const char* what)
     return msg;
 }
 
-/// The whole C-ABI sequence; runs on the worker thread, so that `ds_last_error_message`
-/// (per thread) is read on the thread that failed.
-void localize_on_worker(const PackedLayer& full, const PackedLayer& partial, const ds_options& options,
-                        Shared& shared, LocalizeOutcome& out)
+/// A host mesh handle of a packed layer.
+ds_status make_mesh(const PackedLayer& p, MeshPtr& out)
 {
     ds_mesh* raw = nullptr;
-    ds_status st = ds_mesh_create(full.xyz.data(), full.n_vertices(), full.tri.data(), full.n_faces(), &raw);
-    MeshPtr full_mesh(raw);
-    if (st != DS_OK) { out.status = st; out.error = describe(st, "full layer rejected"); return; }
+    const ds_status st = ds_mesh_create_from_host(p.xyz.data(), p.n_vertices(), p.tri.data(), p.n_faces(), &raw);
+    out.reset(raw);
+    return st;
+}
 
-    raw = nullptr;
-    st = ds_mesh_create(partial.xyz.data(), partial.n_vertices(), partial.tri.data(), partial.n_faces(), &raw);
-    MeshPtr partial_mesh(raw);
+/// The key a prepared full shape is kept under.
+std::string cache_key(const PackedLayer& full, const ds_options* options)
+{
+    char hash[32];
+    std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(fingerprint(full)));
+    const char* json = ds_options_json(options);
+    return std::to_string(full.n_vertices()) + " " + std::to_string(full.n_faces()) + " " + hash + " " +
+           (json != nullptr ? json : "");
+}
+
+/// The whole C-ABI sequence; runs on the worker thread, so that `ds_last_error_message`
+/// (per thread) is read on the thread that failed. The partial is checked first (cheap), then
+/// the full shape is prepared if it must be, then the partial located.
+void localize_on_worker(LocalizerCache& cache, int full_layer, const PackedLayer& full, const PackedLayer& partial,
+                        const ds_options* options, Shared& shared, LocalizeOutcome& out)
+{
+    MeshPtr partial_mesh;
+    ds_status st = make_mesh(partial, partial_mesh);
     if (st != DS_OK) { out.status = st; out.error = describe(st, "partial layer rejected"); return; }
 
+    const std::string key = cache_key(full, options);
+    LocalizerCache::Localizer localizer = cache.find(full_layer, key);
+    out.reused = localizer != nullptr;
+    if (!localizer) {
+        MeshPtr full_mesh;
+        st = make_mesh(full, full_mesh);
+        if (st != DS_OK) { out.status = st; out.error = describe(st, "full layer rejected"); return; }
+        shared.enter(0.0, 0.3, "preparing the full shape: ");
+        ds_localizer* raw = nullptr;
+        st = ds_localizer_create(full_mesh.get(), options, &record_progress, &shared, &raw);
+        localizer = LocalizerCache::Localizer(raw, ds_localizer_destroy);
+        if (st != DS_OK) { out.status = st; out.error = describe(st, "preparing the full layer failed"); return; }
+        cache.keep(full_layer, key, localizer);
+        ds_localizer_preparation_seconds(localizer.get(), &out.preparation_seconds);
+    }
+    out.optimisation_vertices = ds_localizer_optimisation_vertices(localizer.get());
+
+    shared.enter(out.reused ? 0.0 : 0.3, 1.0, "");
     ds_result* raw_result = nullptr;
-    st = ds_localize(full_mesh.get(), partial_mesh.get(), &options, &record_progress, &shared, &raw_result);
+    st = ds_localizer_locate(localizer.get(), partial_mesh.get(), &record_progress, &shared, &raw_result);
     ResultPtr result(raw_result);
     if (st != DS_OK) { out.status = st; out.error = describe(st, "localization failed"); return; }
 
@@ -94,19 +167,21 @@ void localize_on_worker(const PackedLayer& full, const PackedLayer& partial, con
         (st = ds_result_seconds(result.get(), &out.seconds)) != DS_OK) {
         out.status = st;
         out.error = describe(st, "reading the result failed");
+        return;
     }
+    for (size_t i = 0; i < ds_result_n_warnings(result.get()); ++i) out.warnings.emplace_back(ds_result_warning(result.get(), i));
 }
 
 } // namespace
 
-LocalizeOutcome run_localize(const PackedLayer& full, const PackedLayer& partial, const ds_options& options,
-                             vcg::CallBackPos* cb)
+LocalizeOutcome run_localize(LocalizerCache& cache, int full_layer, const PackedLayer& full, const PackedLayer& partial,
+                             const ds_options* options, vcg::CallBackPos* cb)
 {
     LocalizeOutcome out;
     Shared shared;
     auto body = [&]() {
         try {
-            localize_on_worker(full, partial, options, shared, out);
+            localize_on_worker(cache, full_layer, full, partial, options, shared, out);
         } catch (const std::exception& e) {
             out.status = DS_PANIC;
             out.error = std::string("out of resources: ") + e.what();

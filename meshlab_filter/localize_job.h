@@ -1,10 +1,14 @@
-// One call of the dualspectra C ABI (`ds_localize`) for two packed layers, with MeshLab's
-// progress callback (`vcg::CallBackPos`) driven from the caller's thread. No MeshLab plugin
-// interface types here: this file is the same for MeshLab 2020.09 and 2022+.
+// The dualspectra C ABI calls of one localization for two packed layers, with MeshLab's
+// progress callback (`vcg::CallBackPos`) driven from the caller's thread, and the prepared
+// full shapes (`ds_localizer`) kept between calls. No MeshLab plugin interface types here:
+// this file is the same for MeshLab 2020.09 and 2022+.
 #ifndef DUALSPECTRA_MESHLAB_LOCALIZE_JOB_H
 #define DUALSPECTRA_MESHLAB_LOCALIZE_JOB_H
 
 #include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -16,6 +20,35 @@
 
 namespace dsml {
 
+/// The prepared full shapes, one per full layer, each kept while the layer's geometry and the
+/// options are those it was prepared for (its key: vertex and face counts, a hash of the
+/// coordinates and faces, and the options' JSON), so that locating several parts on one model
+/// prepares it once. At most `capacity` layers are kept (the least recently used goes).
+class LocalizerCache {
+public:
+    explicit LocalizerCache(size_t capacity = 4) : capacity_(capacity) {}
+
+    using Localizer = std::shared_ptr<ds_localizer>;
+
+    /// The localizer of `layer` if it was prepared for `key`, else null.
+    Localizer find(int layer, const std::string& key);
+    /// Keep `localizer` as the one of `layer`, prepared for `key`.
+    void keep(int layer, const std::string& key, Localizer localizer);
+    /// Forget every prepared shape.
+    void clear();
+
+private:
+    struct Entry {
+        std::string key;
+        Localizer localizer;
+        uint64_t last_use = 0;
+    };
+    std::mutex mutex_;
+    std::map<int, Entry> entries_;
+    uint64_t clock_ = 0;
+    size_t capacity_;
+};
+
 /// What `run_localize` returns. `status == DS_OK` on success; otherwise `error` says why
 /// (prefixed with the layer it concerns when the mesh itself was rejected).
 struct LocalizeOutcome {
@@ -24,15 +57,20 @@ struct LocalizeOutcome {
     std::vector<uint8_t> region; ///< per packed vertex of the full layer: 1 = in the region
     std::vector<double> score;   ///< per packed vertex of the full layer, in [0, 1]
     double cost = 0.0;
-    double seconds = 0.0;
+    double seconds = 0.0;             ///< locating the partial
+    double preparation_seconds = 0.0; ///< preparing the full shape (when it was prepared now)
+    bool reused = false;              ///< the full shape was prepared by an earlier call
+    size_t optimisation_vertices = 0;
+    std::vector<std::string> warnings; ///< the library's notes (left-out vertices, repairs, ...)
 };
 
-/// Create the two C-ABI meshes and run `ds_localize` on a worker thread, while the calling
-/// thread forwards the progress (`fraction`, `stage`) to `cb` every 100 ms as a percentage.
-/// `cb` returning false cancels the computation (`DS_CANCELLED`). `cb` may be null.
-/// Never throws: every failure is reported in the outcome.
-LocalizeOutcome run_localize(const PackedLayer& full, const PackedLayer& partial, const ds_options& options,
-                             vcg::CallBackPos* cb);
+/// Locate `partial` on `full` (the layer with id `full_layer`) with `options`, on a worker
+/// thread, while the calling thread forwards the progress to `cb` every 100 ms as a
+/// percentage; `cb` returning false cancels (`DS_CANCELLED`). `cb` may be null. The full shape
+/// is prepared unless `cache` holds it for the same geometry and options. Never throws: every
+/// failure is reported in the outcome.
+LocalizeOutcome run_localize(LocalizerCache& cache, int full_layer, const PackedLayer& full, const PackedLayer& partial,
+                             const ds_options* options, vcg::CallBackPos* cb);
 
 } // namespace dsml
 

@@ -1,5 +1,5 @@
 // Localize a partial shape on a full one with CGAL meshes:
-//   cgal_localize FULL PARTIAL OUTPUT [--centers N --iterations N --resolution N ...]
+//   cgal_localize FULL PARTIAL OUTPUT [--centers N --max-iterations N --resolution N ... | --option NAME=VALUE]
 // reads both meshes with CGAL::IO::read_polygon_mesh (OFF, PLY, OBJ, STL, ...), runs
 // dualspectra::localize, stores the result in the full mesh's vertex property maps
 // "v:dualspectra_region" (bool) and "v:dualspectra_score" (double), and writes the full mesh
@@ -44,8 +44,12 @@ int main(int argc, char** argv) {
   example::Args args;
   try {
     args = example::parse(argc, argv);
+    if (args.help) {
+      std::printf("usage: %s%s", argv[0], example::usage_text().c_str());
+      return 0;
+    }
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "cgal_localize: %s\nusage: %s%s", e.what(), argv[0], example::usage_text());
+    std::fprintf(stderr, "cgal_localize: %s\nusage: %s%s", e.what(), argv[0], example::usage_text().c_str());
     return 2;
   }
   try {
@@ -54,8 +58,9 @@ int main(int argc, char** argv) {
     const SurfaceMesh part_sm = read(args.partial);
     const auto full = dualspectra::cgal::to_mesh(full_sm);
     const auto part = dualspectra::cgal::to_mesh(part_sm);
-    std::printf("full: %zu vertices, %zu faces; partial: %zu vertices, %zu faces\n", full.mesh.n_vertices(),
-                full.mesh.n_faces(), part.mesh.n_vertices(), part.mesh.n_faces());
+    std::printf("full: %zu vertices (%zu used), %zu faces; partial: %zu vertices (%zu used), %zu faces\n",
+                full.mesh.n_vertices(), full.mesh.used_vertices().size(), full.mesh.n_faces(), part.mesh.n_vertices(),
+                part.mesh.used_vertices().size(), part.mesh.n_faces());
 
     const dualspectra::Localization r =
         dualspectra::localize(full.mesh, part.mesh, args.options, example::progress_printer(args.quiet));

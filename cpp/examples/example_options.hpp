@@ -1,9 +1,11 @@
-// Command-line options shared by the CGAL and OpenMesh examples.
+// Command-line options shared by the CGAL and OpenMesh examples. The localizer's flags are
+// not listed here: they come from the core's option table (dualspectra::Options::schema()),
+// one `--name VALUE` per option (`-` for `_`, as the CLI spells them), plus the generic
+// `--option name=value`; so a new core option is a new flag without an edit here.
 #pragma once
 
 #include <cstdio>
 #include <cstdlib>
-#include <initializer_list>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -16,47 +18,94 @@ namespace example {
 
 struct Args {
   std::string full, partial, output, indices;
-  dualspectra::Options options = dualspectra::default_options();
+  dualspectra::Options options;
   bool quiet = false;
+  bool help = false;  // --help / -h: print usage_text() and exit
 };
 
-inline const char* usage_text() {
-  return "  FULL PARTIAL OUTPUT [options]\n"
-         "  FULL, PARTIAL: triangle meshes (OFF, PLY, OBJ, ...) read by the host library\n"
-         "  OUTPUT: the full mesh with the region as vertex colours (red = region) and the score\n"
-         "options (defaults: the paper's settings):\n"
-         "  --mode dual|lbo|si   --k N   --alpha A   --seed N   --resolution N (0: no decimation)\n"
-         "  --centers N   --iterations N   --threads N (0: all cores)   --selection gated|region|descriptors|cost\n"
-         "  --starts balls-and-wide-bumps|balls-and-wide-gaussians|gaussian|area-ball   --spectral-cuts N   --plane-cuts N\n"
-         "  --indices FILE   also write the region's vertex indices (0-based, file order), one a line\n"
-         "  --quiet          no progress on stderr\n";
-}
+// One entry of the option schema, as text for --help.
+struct OptionHelp {
+  std::string name, label, doc, range, default_value;
+};
 
-inline std::size_t to_size(const std::string& flag, const std::string& s) {
-  std::size_t used = 0;
-  unsigned long long v = 0;
-  try {
-    v = std::stoull(s, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != s.size() || s.empty() || s[0] == '-') throw std::invalid_argument(flag + " expects a non-negative integer, got '" + s + "'");
-  return static_cast<std::size_t>(v);
-}
-
-// The value named `m` among `choices` (name, value) of option `flag`; else an error listing
-// the names ("--mode expects dual, lbo or si, got 'x'").
-template <class T>
-T pick(const std::string& flag, const std::string& m, std::initializer_list<std::pair<const char*, T>> choices) {
-  std::string names;
+// The schema's entries. A reader for exactly what Options::schema() writes (a JSON array of
+// flat objects whose values are strings, numbers or arrays of strings), enough for --help.
+inline std::vector<OptionHelp> schema_help() {
+  const std::string s = dualspectra::Options::schema();
+  std::vector<OptionHelp> out;
   std::size_t i = 0;
-  for (const auto& choice : choices) {
-    if (m == choice.first) return choice.second;
-    names += i == 0 ? "" : (i + 1 == choices.size() ? " or " : ", ");
-    names += choice.first;
+  auto skip_ws = [&] {
+    while (i < s.size() && (s[i] == ' ' || s[i] == '\n' || s[i] == '\t' || s[i] == '\r')) ++i;
+  };
+  auto read_string = [&]() {
+    std::string t;
+    for (++i; i < s.size() && s[i] != '"'; ++i) {
+      if (s[i] == '\\' && i + 1 < s.size()) ++i;
+      t += s[i];
+    }
     ++i;
+    return t;
+  };
+  auto read_value = [&]() -> std::string {  // a string, a number, or [strings] joined by '|'
+    skip_ws();
+    if (s[i] == '"') return read_string();
+    if (s[i] == '[') {
+      std::string t;
+      for (++i, skip_ws(); i < s.size() && s[i] != ']'; skip_ws()) {
+        if (s[i] == ',') { ++i; continue; }
+        t += (t.empty() ? "" : "|") + read_string();
+      }
+      ++i;
+      return t;
+    }
+    const std::size_t start = i;
+    while (i < s.size() && s[i] != ',' && s[i] != '}') ++i;
+    return s.substr(start, i - start);
+  };
+  for (; i < s.size(); ++i) {
+    if (s[i] != '{') continue;
+    OptionHelp h;
+    std::string type, min, max, choices;
+    for (++i, skip_ws(); i < s.size() && s[i] != '}'; skip_ws()) {
+      if (s[i] == ',') { ++i; continue; }
+      const std::string key = read_string();
+      skip_ws();
+      ++i;  // ':'
+      const std::string value = read_value();
+      if (key == "name") h.name = value;
+      else if (key == "label") h.label = value;
+      else if (key == "doc") h.doc = value;
+      else if (key == "default") h.default_value = value;
+      else if (key == "type") type = value;
+      else if (key == "min") min = value;
+      else if (key == "max") max = value;
+      else if (key == "choices") choices = value;
+    }
+    h.range = type == "choice" ? choices : min + ".." + max;
+    out.push_back(h);
   }
-  throw std::invalid_argument(flag + " expects " + names + ", got '" + m + "'");
+  return out;
+}
+
+inline std::string flag_of(std::string name) {
+  for (auto& c : name)
+    if (c == '_') c = '-';
+  return "--" + name;
+}
+
+inline std::string usage_text() {
+  std::string u =
+      "  FULL PARTIAL OUTPUT [options]\n"
+      "  FULL, PARTIAL: triangle meshes (OFF, PLY, OBJ, ...) read by the host library\n"
+      "  OUTPUT: the full mesh with the region as vertex colours (red = region) and the score\n"
+      "localizer options (the library's defaults unless given):\n";
+  for (const auto& h : schema_help())
+    u += "  " + flag_of(h.name) + " " + h.range + "  " + h.label + " (default " + h.default_value + "): " + h.doc + "\n";
+  u += "  --option NAME=VALUE  any option by its name (as listed above, with _)\n"
+       "  --indices FILE   also write the region's vertex indices (0-based, file order), one a line\n"
+       "  --quiet          no progress on stderr\n"
+       "  --help           this text\n";
+  return u;
 }
 
 inline Args parse(int argc, char** argv) {
@@ -68,35 +117,24 @@ inline Args parse(int argc, char** argv) {
       if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
       return argv[++i];
     };
-    using dualspectra::Mode;
-    using dualspectra::Selection;
-    using dualspectra::StartShape;
-    if (arg == "--mode") {
-      a.options.mode = pick<Mode>(arg, value(), {{"dual", Mode::Dual}, {"lbo", Mode::Lbo}, {"si", Mode::Si}});
-    } else if (arg == "--selection") {
-      a.options.selection = pick<Selection>(arg, value(),
-                                            {{"gated", Selection::Gated},
-                                             {"region", Selection::Region},
-                                             {"descriptors", Selection::Descriptors},
-                                             {"cost", Selection::Cost}});
-    } else if (arg == "--starts") {
-      a.options.start_shape = pick<StartShape>(arg, value(),
-                                               {{"balls-and-wide-bumps", StartShape::BallsAndWideBumps},
-                                                {"balls-and-wide-gaussians", StartShape::BallsAndWideGaussians},
-                                                {"gaussian", StartShape::Gaussian},
-                                                {"area-ball", StartShape::AreaBall}});
-    } else if (arg == "--k") a.options.k = to_size(arg, value());
-    else if (arg == "--alpha") a.options.alpha = std::stod(value());
-    else if (arg == "--seed") a.options.seed = to_size(arg, value());
-    else if (arg == "--resolution") a.options.resolution = to_size(arg, value());
-    else if (arg == "--centers") a.options.centers = to_size(arg, value());
-    else if (arg == "--iterations") a.options.max_iterations = to_size(arg, value());
-    else if (arg == "--threads") a.options.threads = to_size(arg, value());
-    else if (arg == "--spectral-cuts") a.options.spectral_cuts = to_size(arg, value());
-    else if (arg == "--plane-cuts") a.options.plane_cuts = to_size(arg, value());
-    else if (arg == "--indices") a.indices = value();
+    if (arg == "--help" || arg == "-h") {
+      a.help = true;
+      return a;
+    } else if (arg == "--indices") a.indices = value();
     else if (arg == "--quiet") a.quiet = true;
-    else if (arg.size() > 1 && arg[0] == '-') throw std::invalid_argument("unknown option " + arg);
+    else if (arg == "--option") {
+      const std::string nv = value();
+      const auto eq = nv.find('=');
+      if (eq == std::string::npos) throw std::invalid_argument("--option expects NAME=VALUE, got '" + nv + "'");
+      a.options.set(nv.substr(0, eq), nv.substr(eq + 1));
+    } else if (arg.size() > 2 && arg.compare(0, 2, "--") == 0) {
+      // --max-iterations 10 -> "max_iterations" = "10"; the library names an unknown option
+      // or a value out of range (and lists the options).
+      std::string name = arg.substr(2);
+      for (auto& c : name)
+        if (c == '-') c = '_';
+      a.options.set(name, value());
+    } else if (arg.size() > 1 && arg[0] == '-') throw std::invalid_argument("unknown flag " + arg);
     else positional.push_back(arg);
   }
   if (positional.size() != 3) throw std::invalid_argument("expected FULL PARTIAL OUTPUT");

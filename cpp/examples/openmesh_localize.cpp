@@ -1,5 +1,5 @@
 // Localize a partial shape on a full one with OpenMesh meshes:
-//   openmesh_localize FULL PARTIAL OUTPUT [--centers N --iterations N --resolution N ...]
+//   openmesh_localize FULL PARTIAL OUTPUT [--centers N --max-iterations N --resolution N ... | --option NAME=VALUE]
 // reads both meshes with OpenMesh::IO::read_mesh (OFF, PLY, OBJ, STL, ...) into a TriMesh with
 // double points, runs dualspectra::localize, stores the region as the vertex property
 // "v:dualspectra_region" and the vertices' `selected` status flag, and writes the full mesh with
@@ -33,8 +33,12 @@ int main(int argc, char** argv) {
   example::Args args;
   try {
     args = example::parse(argc, argv);
+    if (args.help) {
+      std::printf("usage: %s%s", argv[0], example::usage_text().c_str());
+      return 0;
+    }
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "openmesh_localize: %s\nusage: %s%s", e.what(), argv[0], example::usage_text());
+    std::fprintf(stderr, "openmesh_localize: %s\nusage: %s%s", e.what(), argv[0], example::usage_text().c_str());
     return 2;
   }
   try {
@@ -43,8 +47,9 @@ int main(int argc, char** argv) {
     const TriMesh part_om = read(args.partial);
     const auto full = dualspectra::openmesh::to_mesh(full_om);
     const auto part = dualspectra::openmesh::to_mesh(part_om);
-    std::printf("full: %zu vertices, %zu faces; partial: %zu vertices, %zu faces\n", full.mesh.n_vertices(),
-                full.mesh.n_faces(), part.mesh.n_vertices(), part.mesh.n_faces());
+    std::printf("full: %zu vertices (%zu used), %zu faces; partial: %zu vertices (%zu used), %zu faces\n",
+                full.mesh.n_vertices(), full.mesh.used_vertices().size(), full.mesh.n_faces(), part.mesh.n_vertices(),
+                part.mesh.used_vertices().size(), part.mesh.n_faces());
 
     const dualspectra::Localization r =
         dualspectra::localize(full.mesh, part.mesh, args.options, example::progress_printer(args.quiet));

@@ -1,7 +1,9 @@
 // dualspectra against CGAL 5.5 (one translation unit: CGAL headers compile slowly).
 //
 // 1. The Surface_mesh adapter (dualspectra/cgal.hpp): exact round trip, removed elements and
-//    non-contiguous indices, isolated vertices, polygon faces rejected, region/score write-back.
+//    non-contiguous indices, isolated vertices and zero-area faces left out by the core's
+//    intake (with its warning; results in the host's numbering), polygon faces rejected,
+//    region/score write-back.
 // 2. Angle-defect Gaussian curvature K_i = (2pi or pi - sum of corner angles) / (area_i / 3)
 //    rebuilt from CGAL's own primitives (CGAL::approximate_angle, CGAL::squared_area) on a
 //    Surface_mesh: same formula, independent code, so agreement to rounding (bound 1e-10
@@ -87,13 +89,38 @@ static void test_adapter() {
   for (VI v : junk) sm.remove_vertex(v);
   T.check(sm.has_garbage() && sm.number_of_removed_vertices() == junk.size() + 3, "Surface_mesh with removed elements (index holes)");
   const auto conv = dualspectra::cgal::to_mesh(sm);
-  T.check(conv.mesh.n_vertices() == src.V.size() && conv.mesh.faces() == src.F && conv.mesh.vertices() == src.V,
-          "removed elements skipped, isolated vertex left out, same mesh as the source (" +
-              std::to_string(conv.mesh.n_vertices()) + " vertices)");
-  bool map_ok = conv.index(isolated) == conv.none;
+  const std::size_t n_live = src.V.size() + 1;  // the real vertices and the isolated one
+  T.check(conv.mesh.n_vertices() == n_live && conv.mesh.faces() == src.F && conv.mesh.vertices() == src.V,
+          "removed elements skipped, isolated vertex left out by the intake: the source mesh, results for all " +
+              std::to_string(conv.mesh.n_vertices()) + " live vertices");
+  bool map_ok = conv.index(isolated) == src.V.size() && conv.vertex_of.back() == isolated;
+  for (VI v : junk) map_ok = map_ok && conv.index(v) == conv.none;
   for (std::size_t i = 0; i < real.size(); ++i) map_ok = map_ok && conv.vertex_of[i] == real[i] && conv.index(real[i]) == i;
-  T.check(map_ok, "vertex_of / index_of correspondence");
-  T.check(dualspectra::gaussian_curvature(conv.mesh) == dualspectra::gaussian_curvature(ref), "curvature through the adapter identical to direct construction");
+  const auto used = conv.mesh.used_vertices();
+  map_ok = map_ok && used.size() == src.V.size() && used.back() == src.V.size() - 1;
+  T.check(map_ok, "vertex_of / index_of correspondence over live vertices; used_vertices() leaves the isolated one out");
+  T.check(conv.mesh.warning().find("0 degenerate face(s) and 1 vertex(es)") != std::string::npos,
+          "the intake's warning: " + conv.mesh.warning());
+  auto K = dualspectra::gaussian_curvature(conv.mesh);
+  const double K_isolated = K.back();
+  K.pop_back();
+  T.check(K == dualspectra::gaussian_curvature(ref) && K_isolated == 0.0,
+          "curvature through the adapter identical to direct construction, 0 at the isolated vertex");
+
+  // A zero-area face on three collinear vertices: left out with them, the rest unchanged.
+  {
+    SM sliver = to_surface_mesh(src);
+    const VI s0 = sliver.add_vertex(Point(3, 0, 0)), s1 = sliver.add_vertex(Point(3.5, 0, 0)),
+             s2 = sliver.add_vertex(Point(4, 0, 0));
+    sliver.add_face(s0, s1, s2);
+    const auto c = dualspectra::cgal::to_mesh(sliver);
+    const auto Ks = dualspectra::gaussian_curvature(c.mesh);
+    const std::vector<double> Kref = dualspectra::gaussian_curvature(ref);
+    T.check(c.mesh.n_vertices() == src.V.size() + 3 && c.mesh.n_faces() == src.F.size() &&
+                std::equal(Kref.begin(), Kref.end(), Ks.begin()) && Ks[c.index(s1)] == 0.0 &&
+                c.mesh.warning().find("1 degenerate face(s) and 3 vertex(es)") != std::string::npos,
+            "zero-area face left out with its vertices (0 there): " + c.mesh.warning());
+  }
 
   // Write-back of a result (a Localization filled by hand: this checks the index mapping only).
   dualspectra::Localization r;
@@ -105,8 +132,9 @@ static void test_adapter() {
   }
   auto region = dualspectra::cgal::write_region(sm, conv, r);
   auto score = dualspectra::cgal::write_score(sm, conv, r);
-  bool wb = !region[isolated] && score[isolated] == 0.0;
-  for (std::size_t i = 0; i < real.size(); ++i) wb = wb && region[real[i]] == r.region[i] && score[real[i]] == r.score[i];
+  bool wb = true;
+  for (std::size_t i = 0; i < conv.vertex_of.size(); ++i)
+    wb = wb && region[conv.vertex_of[i]] == r.region[i] && score[conv.vertex_of[i]] == r.score[i];
   auto found = sm.property_map<VI, bool>("v:dualspectra_region");
   T.check(wb && found.second, "region as bool map \"v:dualspectra_region\", score as double map \"v:dualspectra_score\"");
   r.region.pop_back();
@@ -127,16 +155,17 @@ static void test_adapter() {
   } catch (const dualspectra::Error& e) {
     T.check(e.status() == dualspectra::Status::InvalidMesh, std::string("quad face throws InvalidMesh: ") + e.what());
   }
-  // An invalid triangle mesh (degenerate face) is reported by the core validation.
+  // A mesh of zero-area faces only is refused by the intake.
   SM degenerate;
   const VI d0 = degenerate.add_vertex(Point(0, 0, 0)), d1 = degenerate.add_vertex(Point(1, 0, 0)),
            d2 = degenerate.add_vertex(Point(2, 0, 0));
   degenerate.add_face(d0, d1, d2);
   try {
     dualspectra::cgal::to_mesh(degenerate);
-    T.check(false, "degenerate triangle throws");
+    T.check(false, "a mesh of one degenerate triangle throws");
   } catch (const dualspectra::Error& e) {
-    T.check(e.status() == dualspectra::Status::InvalidMesh, std::string("degenerate triangle throws InvalidMesh: ") + e.what());
+    T.check(e.status() == dualspectra::Status::InvalidMesh && std::string(e.what()).find("degenerate") != std::string::npos,
+            std::string("a mesh of one degenerate triangle throws InvalidMesh: ") + e.what());
   }
 }
 

@@ -1,6 +1,8 @@
 // The OpenMesh adapter (dualspectra/openmesh.hpp): float and double TriMesh round trips,
-// deleted elements (before garbage_collection), isolated vertices, polygon faces rejected in a
-// PolyMesh, region write-back as a property and as the `selected` status flag.
+// deleted elements (before garbage_collection), isolated vertices left out by the core's intake
+// (with its warning), polygon faces rejected in a PolyMesh, region write-back as a property
+// and as the `selected` status flag, and a localization through the adapter (one Localizer,
+// two partials) whose results, in the host's numbering, are those of the strict mesh.
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -72,24 +74,54 @@ int main() {
     om.delete_vertex(a, true);  // deletes the dangling face and its now-isolated vertices
     for (auto v : junk) om.delete_vertex(v, true);
     const auto conv = dualspectra::openmesh::to_mesh(om);
-    T.check(conv.mesh.vertices() == src.V && conv.mesh.faces() == src.F,
-            "deleted elements skipped, isolated vertex left out: same mesh as the source (" +
-                std::to_string(conv.mesh.n_vertices()) + " of " + std::to_string(om.n_vertices()) + " handles)");
-    bool map_ok = conv.index(isolated) == conv.none && conv.index(b) == conv.none;
+    T.check(conv.mesh.vertices() == src.V && conv.mesh.faces() == src.F && conv.mesh.n_vertices() == src.V.size() + 1,
+            "deleted elements skipped, isolated vertex left out by the intake: same mesh as the source, results for the " +
+                std::to_string(conv.mesh.n_vertices()) + " non-deleted of " + std::to_string(om.n_vertices()) + " handles");
+    bool map_ok = conv.index(isolated) == src.V.size() && conv.index(b) == conv.none;
+    for (auto v : junk) map_ok = map_ok && conv.index(v) == conv.none;
     for (std::size_t i = 0; i < real.size(); ++i) map_ok = map_ok && conv.vertex_of[i] == real[i] && conv.index(real[i]) == i;
-    T.check(map_ok, "vertex_of / index_of correspondence");
-    T.check(dualspectra::gaussian_curvature(conv.mesh) == K_ref, "curvature through the adapter identical to direct construction");
+    T.check(map_ok, "vertex_of / index_of correspondence over non-deleted vertices");
+    T.check(conv.mesh.warning().find("0 degenerate face(s) and 1 vertex(es)") != std::string::npos,
+            "the intake's warning: " + conv.mesh.warning());
+    auto K = dualspectra::gaussian_curvature(conv.mesh);
+    T.check(K.size() == src.V.size() + 1 && K.back() == 0.0 && std::equal(K_ref.begin(), K_ref.end(), K.begin()),
+            "curvature through the adapter identical to direct construction, 0 at the isolated vertex");
+
+    // A localization through the adapter: one Localizer, two partials; each result, in the
+    // host's numbering, is the strict mesh's at the same vertices and false at the isolated one.
+    {
+      dualspectra::Options fast;
+      fast.set_json(R"({"k": 6, "centers": 1, "max_iterations": 5, "resolution": 0, "plane_cuts": 2})");
+      const dualspectra::Localizer prepared(conv.mesh, fast);
+      T.check(prepared.n_vertices() == conv.mesh.n_vertices() && prepared.warnings().size() == 1,
+              "Localizer on the adapter's mesh: host vertex count, the intake's note among its warnings");
+      for (const auto& part : {dstest::cut(src, [](const dstest::Vec3& p) { return p[0] > 0.3; }),
+                               dstest::cut(src, [](const dstest::Vec3& p) { return p[2] < -0.2; })}) {
+        const dualspectra::Mesh partial(part.V, part.F);
+        const auto got = prepared.locate(partial);
+        const auto want = dualspectra::localize(ref, partial, fast);
+        bool same = got.region.size() == conv.mesh.n_vertices() && !got.region.back() && got.score.back() == 0.0 &&
+                    got.cost == want.cost;
+        for (std::size_t i = 0; same && i < src.V.size(); ++i)
+          same = got.region[i] == want.region[i] && got.score[i] == want.score[i];
+        std::size_t n_region = 0;
+        for (bool in : got.region) n_region += in;
+        T.check(same && !got.warnings.empty() && got.warnings[0].rfind("full mesh: left out", 0) == 0,
+                "located through the adapter = strict one-call result in host numbering (" + std::to_string(n_region) +
+                    " vertices in the region); warnings[0]: " + (got.warnings.empty() ? "(none)" : got.warnings[0]));
+      }
+    }
 
     // Write-back (a Localization filled by hand: this checks the index mapping only).
+    TriMeshD plain = to_openmesh<TriMeshD>(src);  // no status: write_region requests it
+    const auto conv_plain = dualspectra::openmesh::to_mesh(plain);
     dualspectra::Localization r;
-    r.region.resize(conv.mesh.n_vertices());
-    r.score.resize(conv.mesh.n_vertices());
+    r.region.resize(conv_plain.mesh.n_vertices());
+    r.score.resize(conv_plain.mesh.n_vertices());
     for (std::size_t i = 0; i < r.region.size(); ++i) {
       r.region[i] = i % 4 == 1;
       r.score[i] = 1.0 / static_cast<double>(i + 1);
     }
-    TriMeshD plain = to_openmesh<TriMeshD>(src);  // no status: write_region requests it
-    const auto conv_plain = dualspectra::openmesh::to_mesh(plain);
     auto h = dualspectra::openmesh::write_region(plain, conv_plain, r);
     auto hs = dualspectra::openmesh::write_score(plain, conv_plain, r);
     bool wb = plain.has_vertex_status();
@@ -101,13 +133,17 @@ int main() {
     OpenMesh::VPropHandleT<bool> found;
     T.check(wb && plain.get_property_handle(found, "v:dualspectra_region"),
             "region as property \"v:dualspectra_region\" and selected flags, score as \"v:dualspectra_score\"");
-    auto h2 = dualspectra::openmesh::write_region(om, conv, r, "v:dualspectra_region", true);
-    bool wb2 = !om.property(h2, isolated) && !om.status(isolated).selected();
-    for (std::size_t i = 0; i < real.size(); ++i) wb2 = wb2 && om.status(real[i]).selected() == r.region[i];
-    T.check(wb2, "write-back through index holes; isolated vertex unselected");
-    r.region.pop_back();
+    dualspectra::Localization rh;  // one value per non-deleted vertex of om
+    rh.region.assign(conv.mesh.n_vertices(), false);
+    for (std::size_t i = 0; i < rh.region.size(); ++i) rh.region[i] = i % 4 == 1;
+    rh.region.back() = false;  // the isolated vertex, as the intake leaves it
+    auto h2 = dualspectra::openmesh::write_region(om, conv, rh, "v:dualspectra_region", true);
+    bool wb2 = !om.property(h2, isolated) && !om.status(isolated).selected() && !om.property(h2, b);
+    for (std::size_t i = 0; i < real.size(); ++i) wb2 = wb2 && om.status(real[i]).selected() == rh.region[i];
+    T.check(wb2, "write-back through index holes; deleted and isolated vertices unselected");
+    rh.region.pop_back();
     try {
-      dualspectra::openmesh::write_region(om, conv, r);
+      dualspectra::openmesh::write_region(om, conv, rh);
       T.check(false, "size mismatch throws");
     } catch (const dualspectra::Error& e) {
       T.check(e.status() == dualspectra::Status::InvalidArgument, std::string("size mismatch throws InvalidArgument: ") + e.what());

@@ -9,19 +9,14 @@ cd "$(dirname "$0")/../.."
 [ "${DUALSPECTRA_SKIP_MESHLAB:-0}" = 1 ] && { echo "meshlab: SKIPPED (DUALSPECTRA_SKIP_MESHLAB=1)"; exit 0; }
 
 build=target/meshlab-build
-cargo build -p dualspectra-ffi 2>&1 | tail -n 3
-if grep -q "DUALSPECTRA_BUILD_MESHLAB" CMakeLists.txt 2>/dev/null; then
-  # the top-level project with the plugin enabled; build only the plugin target
-  cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDUALSPECTRA_BUILD_MESHLAB=ON \
-        -DMESHLAB_SCALAR=float >"$build.configure.log" 2>&1 || { cat "$build.configure.log"; exit 1; }
-else
-  echo "meshlab: top-level CMakeLists.txt has no DUALSPECTRA_BUILD_MESHLAB hook; building meshlab_filter/ on its own"
-  build=target/meshlab-build-standalone
-  # link the library just built (not a possibly stale target/release one)
-  cmake -S meshlab_filter -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMESHLAB_SCALAR=float \
-        -DDUALSPECTRA_FFI_LIBRARY="$PWD/target/debug/libdualspectra_ffi.a" \
-        >"$build.configure.log" 2>&1 || { cat "$build.configure.log"; exit 1; }
-fi
+# The top-level project with the plugin enabled; the Rust library is built by the Rust test
+# stage's command (see scripts/test.d/40-cpp.sh), so cargo reuses that stage's artefacts.
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDUALSPECTRA_BUILD_MESHLAB=ON -DMESHLAB_SCALAR=float \
+      "-DDUALSPECTRA_CARGO_TEST_ARGS=--workspace;--exclude;dualspectra-py" \
+      >"$build.configure.log" 2>&1 || { cat "$build.configure.log"; exit 1; }
+t0=$(date +%s)
+cmake --build "$build" --target dualspectra_cargo
+echo "meshlab: cargo step $(( $(date +%s) - t0 )) s"
 cmake --build "$build" --target filter_dualspectra meshlab_layer_arrays_test -j2
 plugin=$(find "$build" -name libfilter_dualspectra.so -print -quit)
 [ -n "$plugin" ] || { echo "meshlab: libfilter_dualspectra.so not built" >&2; exit 1; }
@@ -29,4 +24,4 @@ plugin=$(find "$build" -name libfilter_dualspectra.so -print -quit)
 # vcg mesh <-> C arrays (deleted/unreferenced vertices, index map, selection mapping)
 "$(find "$build" -name meshlab_layer_arrays_test -type f -print -quit)"
 
-python3 tests/meshlab/test_meshlab_filter.py --plugin "$plugin"
+python3 tests/meshlab/test_meshlab_filter.py --plugin "$plugin" --ffi-lib target/debug/deps/libdualspectra_ffi.so

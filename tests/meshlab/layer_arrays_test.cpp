@@ -1,10 +1,12 @@
 // Laws of meshlab_filter/layer_arrays.h on a vcg mesh with deleted and unreferenced vertices
 // (no MeshLab needed: vcglib only). Exit status 0 = all checks passed.
-//  - packing keeps exactly the live vertices used by live faces, in layer order;
+//  - packing keeps exactly the live vertices, in layer order, used by a face or not (the
+//    library's intake leaves out the unused ones and answers in this numbering);
 //  - packed faces are the live faces, with indices mapped through the index map;
 //  - a packed mask selects exactly the mapped layer vertices, and the faces whose three
-//    vertices are selected; deleted/unreferenced vertices are never selected;
-//  - quality: packed scores land on the mapped vertices, the others get 0.
+//    vertices are selected; deleted vertices are never selected;
+//  - quality: packed scores land on the mapped vertices, deleted ones are untouched;
+//  - the fingerprint changes with a coordinate or a face, not with deleted elements.
 #include <cstdio>
 #include <vector>
 
@@ -47,10 +49,10 @@ int main()
     vcg::tri::Allocator<TMesh>::DeleteVertex(m, m.vert[2]);
 
     const dsml::PackedLayer p = dsml::pack_layer(m);
-    const std::vector<size_t> expected_layer = {0, 1, 3, 4, 5, 6, 7, 8};
-    check(p.layer_of == expected_layer, "packed vertices: live and used by a live face, in layer order");
-    check(p.n_deleted_vertices == 1 && p.n_unreferenced_vertices == 1, "one deleted, one unreferenced vertex counted");
-    check(p.packed_of[2] == -1 && p.packed_of[9] == -1, "deleted and unreferenced vertices map to -1");
+    const std::vector<size_t> expected_layer = {0, 1, 3, 4, 5, 6, 7, 8, 9};
+    check(p.layer_of == expected_layer, "packed vertices: the live ones, in layer order (unreferenced 9 included)");
+    check(p.n_deleted_vertices == 1, "one deleted vertex counted");
+    check(p.packed_of[2] == -1 && p.packed_of[9] == 8, "the deleted vertex maps to -1, the unreferenced one is packed");
     bool inverse = true;
     for (size_t j = 0; j < p.n_vertices(); ++j) inverse = inverse && p.packed_of[p.layer_of[j]] == int64_t(j);
     check(inverse, "packed_of inverts layer_of");
@@ -87,11 +89,22 @@ int main()
 
     std::vector<double> score(p.n_vertices());
     for (size_t j = 0; j < p.n_vertices(); ++j) score[j] = 0.1 * double(j + 1);
-    m.vert[9].Q() = 7.f;
+    m.vert[2].Q() = 7.f; // deleted: untouched
     dsml::write_quality(m, p, score.data());
-    bool q = m.vert[9].Q() == 0.f;
+    bool q = m.vert[2].Q() == 7.f;
     for (size_t j = 0; j < p.n_vertices(); ++j) q = q && m.vert[p.layer_of[j]].Q() == float(score[j]);
-    check(q, "scores land on the mapped vertices; unreferenced vertices get 0");
+    check(q, "scores land on the mapped vertices; deleted vertices untouched");
+
+    // Fingerprint: the same for the same live geometry, different after a move or a new face.
+    const uint64_t h = dsml::fingerprint(p);
+    check(dsml::fingerprint(dsml::pack_layer(m)) == h, "fingerprint: same layer, same value");
+    m.vert[2].P() = vcg::Point3f(-1.f, -1.f, -1.f); // deleted vertex moved: not part of the layer
+    check(dsml::fingerprint(dsml::pack_layer(m)) == h, "fingerprint: deleted elements do not count");
+    m.vert[4].P()[2] += 1e-3f;
+    const uint64_t moved = dsml::fingerprint(dsml::pack_layer(m));
+    check(moved != h, "fingerprint: a moved vertex changes it");
+    vcg::tri::Allocator<TMesh>::AddFace(m, &m.vert[5], &m.vert[8], &m.vert[9]);
+    check(dsml::fingerprint(dsml::pack_layer(m)) != moved, "fingerprint: a new face changes it");
 
     std::printf("%s\n", failures == 0 ? "layer_arrays: all checks passed" : "layer_arrays: FAILED");
     return failures == 0 ? 0 : 1;

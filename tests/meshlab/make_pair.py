@@ -7,7 +7,10 @@ re-indexed, then moved by a rigid motion (rotation + translation): it is a part 
 shape, placed elsewhere. The expected region is the set of full-mesh vertices the part kept.
 
 Outputs in `--out`: full.off, partial.off, expected_region.txt (one full-mesh vertex index per
-line), points.off (the part's vertices without faces: a point cloud) and nonmanifold.off (three
+line); partial2.off and expected_region2.txt, a second part cut by another plane; full_debris.off,
+the full mesh with what an editor's mesh may hold and the library's intake leaves out (a loose
+vertex, and a zero-area triangle on three more vertices, all after the full mesh's vertices);
+points.off (the part's vertices without faces: a point cloud) and nonmanifold.off (three
 triangles on one edge, which the library rejects), for the error paths.
 """
 
@@ -54,9 +57,13 @@ def dot(a, b):
 
 # (centre direction, height, width): three distinct bumps make the shape asymmetric.
 BUMPS = [((1.0, 0.2, 0.3), 0.45, 0.35), ((-0.3, 1.0, -0.2), 0.25, 0.5), ((0.1, -0.4, -1.0), 0.6, 0.25)]
-# The cutting plane: keep points p with dot(p, PLANE_NORMAL) > PLANE_OFFSET.
+# The cutting planes: keep points p with dot(p, normal) > offset.
 PLANE_NORMAL = normalize((1.0, 0.35, 0.25))
 PLANE_OFFSET = 0.3
+PLANE2_NORMAL = normalize((-0.2, 0.3, -1.0))
+PLANE2_OFFSET = 0.25
+# Appended to full.off in full_debris.off: a loose vertex and three collinear ones.
+DEBRIS = [(5.0, 5.0, 5.0), (4.0, 0.0, 0.0), (4.5, 0.0, 0.0), (5.0, 0.0, 0.0)]
 
 
 def bumpy(verts):
@@ -99,22 +106,29 @@ def main():
 
     sphere, faces = icosphere(args.level)
     full = bumpy(sphere)
-    # The side test uses the unit-sphere positions, so the cut is a clean spherical cap.
-    kept = [t for t in faces if all(dot(sphere[i], PLANE_NORMAL) > PLANE_OFFSET for i in t)]
-    region = sorted({i for t in kept for i in t})
-    new_index = {old: new for new, old in enumerate(region)}
-    part = [rigid(full[i]) for i in region]
-    part_faces = [tuple(new_index[i] for i in t) for t in kept]
 
+    def part(normal, offset, name, truth):
+        # The side test uses the unit-sphere positions, so the cut is a clean spherical cap.
+        kept = [t for t in faces if all(dot(sphere[i], normal) > offset for i in t)]
+        region = sorted({i for t in kept for i in t})
+        new_index = {old: new for new, old in enumerate(region)}
+        write_off(os.path.join(args.out, name), [rigid(full[i]) for i in region],
+                  [tuple(new_index[i] for i in t) for t in kept])
+        with open(os.path.join(args.out, truth), "w") as f:
+            f.write("".join("%d\n" % i for i in region))
+        return region, kept
+
+    region, kept = part(PLANE_NORMAL, PLANE_OFFSET, "partial.off", "expected_region.txt")
+    part(PLANE2_NORMAL, PLANE2_OFFSET, "partial2.off", "expected_region2.txt")
     write_off(os.path.join(args.out, "full.off"), full, faces)
-    write_off(os.path.join(args.out, "partial.off"), part, part_faces)
-    write_off(os.path.join(args.out, "points.off"), part, [])
+    n = len(full)
+    write_off(os.path.join(args.out, "full_debris.off"), full + DEBRIS, faces + [(n + 1, n + 2, n + 3)])
+    part_points = [rigid(full[i]) for i in region]
+    write_off(os.path.join(args.out, "points.off"), part_points, [])
     write_off(os.path.join(args.out, "nonmanifold.off"),
               [(0, 0, 0), (1, 0, 0), (0.5, 1, 0), (0.5, -1, 0), (0.5, 0, 1)], [(0, 1, 2), (1, 0, 3), (0, 1, 4)])
-    with open(os.path.join(args.out, "expected_region.txt"), "w") as f:
-        f.write("".join("%d\n" % i for i in region))
     print("full: %d vertices, %d faces; partial: %d vertices, %d faces (%.1f%% of the full vertices)"
-          % (len(full), len(faces), len(part), len(part_faces), 100.0 * len(part) / len(full)))
+          % (len(full), len(faces), len(region), len(kept), 100.0 * len(region) / len(full)))
 
 
 if __name__ == "__main__":

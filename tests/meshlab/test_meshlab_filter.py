@@ -1,6 +1,8 @@
 """End-to-end test of the MeshLab filter plugin in the real meshlabserver (stdlib only).
 
     python3 tests/meshlab/test_meshlab_filter.py --plugin build/plugins/libfilter_dualspectra.so
+        [--ffi-lib target/debug/deps/libdualspectra_ffi.so]
+    python3 tests/meshlab/test_meshlab_filter.py --write-script meshlab_filter/localize.mlx
 
 meshlabserver loads plugins from `<prefix>/lib/<arch>/meshlab/plugins` next to its own binary
 (`<prefix>/bin/meshlabserver`, found through /proc/self/exe, so the binary is copied, not
@@ -8,21 +10,37 @@ symlinked), and needs a display: each run is `xvfb-run -a`. The system is left u
 private prefix in a temporary directory holds a copy of meshlabserver, links to the system
 libmeshlab-common.so and plugins, and a link to the plugin under test.
 
-Cases (each one meshlabserver run with a .mlx script calling the filter):
-  region       full + a plane cut of it (moved rigidly): the selection saved with `-m vf vq sa`
-               (selected vertices carry flag bit 0x20) must have IoU >= --min-iou with the
-               known region; the score written to vertex quality must be in [0, 1] and higher
-               on average inside the known region than outside; the log has the result line.
+The filter's parameters are the library's options: the scripts are written from its option
+table (`ds_options_schema_json`, read with ctypes from the dualspectra-ffi shared library the
+plugin was linked from, --ffi-lib), in the plugin's order: FullMesh, PartialMesh, the options,
+WriteScore. `--write-script PATH` writes the example script meshlab_filter/localize.mlx.
+
+Cases (each one meshlabserver run):
+  parameters   `meshlabserver -d` lists the filter's parameters: the two meshes, one per option of
+               the table (type and label), WriteScore; and meshlab_filter/localize.mlx is the
+               script of the defaults (else regenerate it with --write-script).
+  region       one script, two filter calls on the same full layer (a full mesh with a loose
+               vertex and a zero-area face): partial2, then partial; the first call prepares the
+               full shape, the second reuses it (the log says both); the intake's warning is
+               logged; the selection saved with `-m vf vq sa` (selected vertices carry flag bit
+               0x20) must have IoU >= --min-iou with partial's known region and leave the
+               loose/degenerate vertices out; the score written to vertex quality must be in
+               [0, 1] and higher on average inside the known region than outside.
   same-layer   the full layer picked twice: a clear message in the log, no crash.
   point-cloud  a partial layer without faces: a clear message in the log, no crash.
-  bad-k        k = 0: a clear message in the log, no crash.
+  bad-k, bad-planes, bad-seed
+               an option out of range: the library's message naming it and its range, no crash.
+  bad-enum     a choice index out of range: a clear message, no crash.
   bad-mesh     a non-manifold partial layer, rejected by the library (DS_INVALID_MESH): its
                message reaches the log, no crash.
 """
 
 import argparse
+import ctypes
 import glob
+import json
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -35,30 +53,59 @@ sys.path.insert(0, HERE)
 from read_selection import read_selected  # noqa: E402
 
 FILTER = "Localize partial shape (dual spectra)"
-MODES = ["dual", "lbo", "si"]
+REPO = os.path.dirname(os.path.dirname(HERE))
+SHIPPED_SCRIPT = os.path.join(REPO, "meshlab_filter", "localize.mlx")
+RICH_TYPE = {"int": "RichInt", "float": "RichFloat", "choice": "RichEnum"}
 
 
-def mlx(full, partial, mode=0, k=20, alpha=0.33, seed=0, spectral_cuts=0, plane_cuts=6, write_score=False):
-    """A filter script with every parameter, in initParameterSet order (meshlabserver 2020.09
-    matches the script's parameters to the filter's by position and asserts on the count)."""
-    enum_vals = " ".join('enum_val%d="%s"' % (i, m) for i, m in enumerate(MODES))
-    return "\n".join([
-        "<!DOCTYPE FilterScript>",
-        "<FilterScript>",
-        ' <filter name="%s">' % FILTER,
-        '  <Param type="RichMesh" value="%d" name="FullMesh"/>' % full,
-        '  <Param type="RichMesh" value="%d" name="PartialMesh"/>' % partial,
-        '  <Param type="RichEnum" value="%d" name="Mode" enum_cardinality="%d" %s/>' % (mode, len(MODES), enum_vals),
-        '  <Param type="RichInt" value="%d" name="K"/>' % k,
-        '  <Param type="RichFloat" value="%g" name="Alpha"/>' % alpha,
-        '  <Param type="RichInt" value="%d" name="Seed"/>' % seed,
-        '  <Param type="RichInt" value="%d" name="SpectralCuts"/>' % spectral_cuts,
-        '  <Param type="RichInt" value="%d" name="PlaneCuts"/>' % plane_cuts,
-        '  <Param type="RichBool" value="%s" name="WriteScore"/>' % ("true" if write_score else "false"),
-        " </filter>",
-        "</FilterScript>",
-        "",
-    ])
+def load_schema(ffi_lib):
+    """The library's option table (a list of dicts), from `ds_options_schema_json`."""
+    lib = ctypes.CDLL(ffi_lib)
+    lib.ds_options_schema_json.restype = ctypes.c_char_p
+    return json.loads(lib.ds_options_schema_json().decode("utf-8"))
+
+
+def option_param(spec, value):
+    """The script line of one option; `value` is the option's value (a choice by name)."""
+    name, kind = spec["name"], spec["type"]
+    if kind == "choice":
+        choices = spec["choices"]
+        index = choices.index(value) if value in choices else value  # an int: an index as given
+        vals = " ".join('enum_val%d="%s"' % (i, c) for i, c in enumerate(choices))
+        return '  <Param type="RichEnum" value="%d" name="%s" enum_cardinality="%d" %s/>' % (
+            index, name, len(choices), vals)
+    text = "%d" % value if kind == "int" else "%g" % value
+    return '  <Param type="%s" value="%s" name="%s"/>' % (RICH_TYPE[kind], text, name)
+
+
+def filter_call(schema, full, partial, write_score=False, **options):
+    """One filter call with every parameter, in initParameterSet order (meshlabserver 2020.09
+    matches the script's parameters to the filter's by position and asserts on the count).
+    Options not given take the library's defaults."""
+    unknown = set(options) - {s["name"] for s in schema}
+    if unknown:
+        raise ValueError("not options of the library: %s" % ", ".join(sorted(unknown)))
+    lines = [' <filter name="%s">' % FILTER,
+             '  <Param type="RichMesh" value="%d" name="FullMesh"/>' % full,
+             '  <Param type="RichMesh" value="%d" name="PartialMesh"/>' % partial]
+    lines += [option_param(s, options.get(s["name"], s["default"])) for s in schema]
+    lines += ['  <Param type="RichBool" value="%s" name="WriteScore"/>' % ("true" if write_score else "false"),
+              " </filter>"]
+    return lines
+
+
+def mlx(*calls):
+    """A filter script of `calls` (each from filter_call)."""
+    return "\n".join(["<!DOCTYPE FilterScript>", "<FilterScript>"] + [l for c in calls for l in c]
+                     + ["</FilterScript>", ""])
+
+
+def find_ffi_lib():
+    for d in ("target/debug/deps", "target/debug", "target/release"):
+        p = os.path.join(REPO, d, "libdualspectra_ffi.so")
+        if os.path.exists(p):
+            return p
+    return None
 
 
 def make_prefix(root, plugin, meshlabserver, system_lib_dir):
@@ -150,6 +197,17 @@ def no_crash(checks, case, status, text):
     checks.check(case, not crashed, "meshlabserver ended normally (exit %d)" % status)
 
 
+def log_lines(text, needle):
+    """The distinct lines of `text` holding `needle`, in order (the log's " LOG: n " prefix off)."""
+    out = []
+    for line in text.splitlines():
+        if needle in line:
+            line = re.sub(r"^LOG: \d+ ", "", line.strip())
+            if line not in out:
+                out.append(line)
+    return out
+
+
 def log_excerpt(text, needle):
     lines = [l.strip() for l in text.splitlines() if needle.lower() in l.lower()]
     return lines[0] if lines else "(no line with '%s')" % needle
@@ -157,7 +215,7 @@ def log_excerpt(text, needle):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--plugin", required=True, help="libfilter_dualspectra.so to test")
+    ap.add_argument("--plugin", help="libfilter_dualspectra.so to test (required unless --write-script)")
     ap.add_argument("--meshlabserver", default=shutil.which("meshlabserver") or "/usr/bin/meshlabserver")
     ap.add_argument("--meshlab-lib", default=None,
                     help="system directory holding libmeshlab-common.so and plugins/ (default: found)")
@@ -167,9 +225,22 @@ def main():
     ap.add_argument("--min-iou", type=float, default=0.7)
     ap.add_argument("--timeout", type=int, default=int(os.environ.get("DUALSPECTRA_MESHLAB_TIMEOUT", "900")),
                     help="seconds allowed for the region run")
+    ap.add_argument("--ffi-lib", default=None,
+                    help="libdualspectra_ffi.so the plugin was built from (its option table; default: found in target/)")
+    ap.add_argument("--write-script", metavar="PATH", help="write the example script (defaults) to PATH and exit")
     ap.add_argument("--only", nargs="*", help="run only these cases")
     ap.add_argument("--keep", action="store_true", help="keep the work directory")
     args = ap.parse_args()
+
+    ffi_lib = args.ffi_lib or find_ffi_lib()
+    if ffi_lib is None or not os.path.exists(ffi_lib):
+        sys.exit("libdualspectra_ffi.so not found: cargo build -p dualspectra-ffi, or pass --ffi-lib")
+    schema = load_schema(ffi_lib)
+    if args.write_script:
+        with open(args.write_script, "w") as f:
+            f.write(mlx(filter_call(schema, 0, 1)))
+        print("wrote %s (%d options)" % (args.write_script, len(schema)))
+        return 0
 
     lib_dir = args.meshlab_lib
     if lib_dir is None:
@@ -180,8 +251,8 @@ def main():
     for tool in ("xvfb-run", args.meshlabserver):
         if shutil.which(tool) is None and not os.path.exists(tool):
             sys.exit("%s not found: run scripts/setup.d/60-meshlab.sh" % tool)
-    if not os.path.exists(args.plugin):
-        sys.exit("plugin %s not found" % args.plugin)
+    if not args.plugin or not os.path.exists(args.plugin):
+        sys.exit("plugin %s not found (--plugin)" % args.plugin)
 
     work = tempfile.mkdtemp(prefix="dualspectra-meshlab-")
     try:
@@ -196,9 +267,32 @@ def main():
         checks = Checks()
         wanted = lambda case: not args.only or case in args.only  # noqa: E731
 
+        if wanted("parameters"):
+            print("case parameters: the filter's parameters are the library's options")
+            dump = os.path.join(work, "filters.txt")
+            cmd = ["xvfb-run", "-a", server, "-d", dump]
+            proc = subprocess.run(cmd, cwd=work, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=120)
+            rows = []
+            if os.path.exists(dump):
+                with open(dump, encoding="utf-8", errors="replace") as f:
+                    text = f.read()
+                section = text.split("%s \n" % FILTER, 1)[1].split("\\section", 1)[0] if FILTER + " \n" in text else ""
+                rows = re.findall(r"<TR><TD> \\c (\w+)\s*</TD> <TD> (.*?) </TD>", section)
+            want = ([("Mesh", "Full mesh"), ("Mesh", "Partial mesh")]
+                    + [({"int": "Int", "float": "Float", "choice": "Enum"}[s["type"]], s["label"]) for s in schema]
+                    + [("Bool", "Score to vertex quality and colour")])
+            checks.check("parameters", rows == want, "meshlabserver -d lists %d parameters (%s)%s" % (
+                len(rows), ", ".join(label for _, label in rows),
+                "" if rows == want else "; expected %s; exit %d" % (want, proc.returncode)))
+            shipped = open(SHIPPED_SCRIPT).read() if os.path.exists(SHIPPED_SCRIPT) else ""
+            checks.check("parameters", shipped == mlx(filter_call(schema, 0, 1)),
+                         "%s is the script of the defaults (regenerate: %s --write-script %s)"
+                         % (os.path.relpath(SHIPPED_SCRIPT, REPO), os.path.relpath(__file__, REPO),
+                            os.path.relpath(SHIPPED_SCRIPT, REPO)))
+
         if wanted("same-layer"):
             print("case same-layer: the full layer picked twice")
-            status, text, _ = run_server(server, work, "same-layer", [full, partial], mlx(0, 0))
+            status, text, _ = run_server(server, work, "same-layer", [full, partial], mlx(filter_call(schema, 0, 0)))
             checks.check("same-layer", "filter %s not found" % FILTER not in text, "plugin loaded from " + plugin_dir)
             checks.check("same-layer", status != 0, "the script fails (exit %d)" % status)
             checks.check("same-layer", "same layer" in text, log_excerpt(text, "same layer"))
@@ -206,64 +300,69 @@ def main():
 
         if wanted("point-cloud"):
             print("case point-cloud: a partial layer without faces")
-            status, text, _ = run_server(server, work, "point-cloud", [full, points], mlx(0, 1))
+            status, text, _ = run_server(server, work, "point-cloud", [full, points], mlx(filter_call(schema, 0, 1)))
             checks.check("point-cloud", status != 0, "the script fails (exit %d)" % status)
             checks.check("point-cloud", "has no faces" in text, log_excerpt(text, "has no faces"))
             no_crash(checks, "point-cloud", status, text)
 
-        if wanted("bad-k"):
-            print("case bad-k: k = 0")
-            status, text, _ = run_server(server, work, "bad-k", [full, partial], mlx(0, 1, k=0))
-            checks.check("bad-k", status != 0, "the script fails (exit %d)" % status)
-            checks.check("bad-k", "k must be at least 1" in text, log_excerpt(text, "k must be"))
-            no_crash(checks, "bad-k", status, text)
-
-        if wanted("bad-cuts"):
-            print("case bad-cuts: SpectralCuts = -1")
-            status, text, _ = run_server(server, work, "bad-cuts", [full, partial], mlx(0, 1, spectral_cuts=-1))
-            checks.check("bad-cuts", status != 0, "the script fails (exit %d)" % status)
-            checks.check("bad-cuts", "spectral cuts must be non-negative" in text,
-                         log_excerpt(text, "spectral cuts"))
-            no_crash(checks, "bad-cuts", status, text)
-
-        if wanted("bad-planes"):
-            print("case bad-planes: PlaneCuts = 27 (the library's bound is 26)")
-            status, text, _ = run_server(server, work, "bad-planes", [full, partial], mlx(0, 1, plane_cuts=27))
-            checks.check("bad-planes", status != 0, "the script fails (exit %d)" % status)
-            checks.check("bad-planes", "plane_cuts = 27 must be at most 26" in text,
-                         log_excerpt(text, "plane_cuts"))
-            no_crash(checks, "bad-planes", status, text)
+        # An option out of range: the library refuses it, naming the option and its range.
+        for case, options, says in [
+            ("bad-k", {"k": 0}, "k = 0 must be an integer in 1..=500"),
+            ("bad-planes", {"plane_cuts": 27}, "plane_cuts = 27 must be an integer in 0..=26"),
+            ("bad-seed", {"seed": -1}, "seed = -1 must be an integer in 0..="),
+            ("bad-enum", {"mode": 7}, "mode: choice 7 is out of range (3 choices: dual, lbo, si)"),
+        ]:
+            if not wanted(case):
+                continue
+            print("case %s: %s" % (case, options))
+            status, text, _ = run_server(server, work, case, [full, partial], mlx(filter_call(schema, 0, 1, **options)))
+            checks.check(case, status != 0, "the script fails (exit %d)" % status)
+            checks.check(case, says in text, log_excerpt(text, says))
+            no_crash(checks, case, status, text)
 
         if wanted("bad-mesh"):
             print("case bad-mesh: a non-manifold partial layer")
             nonmanifold = os.path.join(work, "nonmanifold.off")
-            status, text, _ = run_server(server, work, "bad-mesh", [full, nonmanifold], mlx(0, 1))
+            status, text, _ = run_server(server, work, "bad-mesh", [full, nonmanifold], mlx(filter_call(schema, 0, 1)))
             checks.check("bad-mesh", status != 0, "the script fails (exit %d)" % status)
             checks.check("bad-mesh", "partial layer rejected" in text and "DS_INVALID_MESH" in text,
                          log_excerpt(text, "partial layer rejected"))
             no_crash(checks, "bad-mesh", status, text)
 
         if wanted("region"):
-            print("case region: full + a plane cut of it, moved rigidly (%d expected vertices)" % len(expected))
+            full_debris = os.path.join(work, "full_debris.off")
+            partial2 = os.path.join(work, "partial2.off")
+            print("case region: a full mesh (+ a loose vertex and a zero-area face) and two plane cuts of it, "
+                  "moved rigidly; one prepared full shape (%d expected vertices)" % len(expected))
             # meshlabserver saves the current layer, which is the last one loaded: load the
-            # partial first (layer 0) so that the full mesh (layer 1) is the one saved.
-            status, text, out = run_server(server, work, "region", [partial, full],
-                                           mlx(1, 0, k=args.k, write_score=True), save_mask=["vf", "vq", "sa"],
-                                           timeout=args.timeout)
+            # partials first (layers 0, 1) so that the full mesh (layer 2) is the one saved.
+            script = mlx(filter_call(schema, 2, 1, k=args.k), filter_call(schema, 2, 0, write_score=True, k=args.k))
+            status, text, out = run_server(server, work, "region", [partial, partial2, full_debris], script,
+                                           save_mask=["vf", "vq", "sa"], timeout=args.timeout)
             no_crash(checks, "region", status, text)
             ok = status == 0 and out is not None and os.path.exists(out)
-            checks.check("region", ok, "filter applied and mesh saved (exit %d)" % status)
+            checks.check("region", ok, "both filter calls applied and mesh saved (exit %d)" % status)
             if not ok:
                 print("  last lines of meshlabserver's output:")
                 for line in [l for l in text.splitlines() if l.strip()][-6:]:
                     print("    " + line.strip())
             if ok:
-                checks.check("region", "Localized " in text, log_excerpt(text, "Localized "))
+                # (meshlabserver prints the log and saves it: each line is in `text` twice)
+                results = log_lines(text, "Localized ")
+                checks.check("region", len(results) == 2 and "partial2.off" in results[0] and "'partial.off'" in results[1],
+                             " | ".join(results))
+                prepared, reused = log_lines(text, "prepared the full shape"), log_lines(text, "reused the full shape")
+                checks.check("region", len(prepared) == 1 and len(reused) == 1,
+                             "one preparation, one reuse: %s" % " | ".join(prepared + reused))
+                checks.check("region", "full mesh: left out 1 degenerate face(s) and 4 vertex(es)" in text,
+                             log_excerpt(text, "left out"))
+                n_full = 4 ** args.level * 10 + 2
                 n, selected = read_selected(out)
                 sel = set(selected)
                 inter, union = len(sel & expected), len(sel | expected)
                 iou = inter / union if union else 0.0
-                checks.check("region", n == 4 ** args.level * 10 + 2, "saved mesh has %d vertices" % n)
+                checks.check("region", n == n_full + 4, "saved mesh has %d vertices (%d + 4 debris)" % (n, n_full))
+                checks.check("region", not sel & set(range(n_full, n)), "no loose or degenerate vertex selected")
                 checks.check("region", iou >= args.min_iou,
                              "IoU %.3f (>= %.2f): %d selected, %d expected, %d in both"
                              % (iou, args.min_iou, len(sel), len(expected), inter))
@@ -271,7 +370,7 @@ def main():
                 checks.check("region", q is not None and len(q) == n, "vertex quality saved")
                 if q is not None and len(q) == n:
                     inside = [q[i] for i in expected]
-                    outside = [q[i] for i in range(n) if i not in expected]
+                    outside = [q[i] for i in range(n_full) if i not in expected]
                     mean_in = sum(inside) / max(1, len(inside))
                     mean_out = sum(outside) / max(1, len(outside))
                     checks.check("region", all(0.0 <= x <= 1.0 for x in q), "score in [0, 1]")

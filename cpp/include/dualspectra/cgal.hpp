@@ -3,19 +3,21 @@
 //   #include <dualspectra/cgal.hpp>
 //   CGAL::Surface_mesh<K::Point_3> full_sm, part_sm;   // e.g. from CGAL::IO::read_polygon_mesh
 //   auto full = dualspectra::cgal::to_mesh(full_sm), part = dualspectra::cgal::to_mesh(part_sm);
-//   dualspectra::Localization r = dualspectra::localize(full.mesh, part.mesh);
+//   dualspectra::Localization r = dualspectra::localize(full.mesh, part.mesh);  // or a Localizer
 //   auto region = dualspectra::cgal::write_region(full_sm, full, r);  // bool map "v:dualspectra_region"
 //   auto score  = dualspectra::cgal::write_score(full_sm, full, r);   // double map "v:dualspectra_score"
 //
-// Conversion: the live (not removed) vertices that belong to at least one face become the
-// dualspectra vertices, numbered in the order of sm.vertices(); removed elements and
-// non-contiguous indices (a mesh not garbage-collected) are handled; isolated vertices are left
-// out (they get `false` / 0 when a result is written back). Coordinates go through
-// CGAL::to_double, so exact kernels work. Every face must be a triangle: a polygon face throws
+// Conversion: the live (not removed) vertices, in the order of sm.vertices(), and the faces
+// are the host's arrays handed to the core's mesh intake (dualspectra::Mesh::from_host): it
+// leaves out zero-area faces and vertices in no face (isolated), says so in conv.mesh.warning()
+// and in the result's warnings, and gives every result back for all live vertices (`false` / 0
+// at the left-out ones). Removed elements and non-contiguous indices (a mesh not
+// garbage-collected) are skipped here. Coordinates go through CGAL::to_double, so exact kernels
+// work. Every face must be a triangle: a polygon face throws
 // dualspectra::Error(Status::InvalidMesh) naming the face (triangulate first, e.g. with
-// CGAL::Polygon_mesh_processing::triangulate_faces). The dualspectra::Mesh constructor then
-// validates the result (manifoldness, degenerate faces, finite coordinates) and throws
-// Error(Status::InvalidMesh) with its reason.
+// CGAL::Polygon_mesh_processing::triangulate_faces). What the intake cannot repair
+// (non-manifold edge or vertex, non-finite coordinate) throws Error(Status::InvalidMesh) with
+// its reason.
 #pragma once
 
 #include <algorithm>
@@ -38,14 +40,16 @@ namespace cgal {
 template <class Point>
 struct Converted {
   using Vertex_index = typename CGAL::Surface_mesh<Point>::Vertex_index;
+  // The live vertices and the faces through the core's intake: per-vertex results have one
+  // value per live vertex (mesh.n_vertices() == vertex_of.size()).
   Mesh mesh;
-  // vertex_of[i]: the Surface_mesh vertex of dualspectra vertex i.
+  // vertex_of[i]: the Surface_mesh vertex of host index i (every live vertex).
   std::vector<Vertex_index> vertex_of;
-  // index_of[v.idx()]: the dualspectra index of a Surface_mesh vertex, or `none` (removed or isolated).
+  // index_of[v.idx()]: the host index of a Surface_mesh vertex, or `none` (removed).
   std::vector<std::uint32_t> index_of;
   static constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
 
-  // dualspectra index of `v`, or `none`.
+  // Host index of `v`, or `none`.
   std::uint32_t index(Vertex_index v) const {
     const std::size_t k = static_cast<std::size_t>(v.idx());
     return k < index_of.size() ? index_of[k] : none;
@@ -61,6 +65,7 @@ struct Arrays {
   std::vector<std::uint32_t> index_of;
 };
 
+// The live vertices (host index = rank in sm.vertices()) and the faces in host indices.
 template <class Point>
 Arrays<Point> arrays(const CGAL::Surface_mesh<Point>& sm) {
   using SM = CGAL::Surface_mesh<Point>;
@@ -71,13 +76,22 @@ Arrays<Point> arrays(const CGAL::Surface_mesh<Point>& sm) {
   std::size_t slots = 0;
   for (auto v : sm.vertices()) slots = std::max<std::size_t>(slots, static_cast<std::size_t>(v.idx()) + 1);
   a.index_of.assign(slots, none);
-  std::vector<char> used(slots, 0);
+  a.positions.reserve(3 * static_cast<std::size_t>(sm.number_of_vertices()));
+  for (auto v : sm.vertices()) {
+    if (a.vertex_of.size() >= none)
+      throw Error(Status::InvalidMesh, "CGAL::Surface_mesh has too many vertices for 32-bit indices");
+    a.index_of[static_cast<std::size_t>(v.idx())] = static_cast<std::uint32_t>(a.vertex_of.size());
+    a.vertex_of.push_back(v);
+    const Point& p = sm.point(v);
+    a.positions.push_back(CGAL::to_double(p.x()));
+    a.positions.push_back(CGAL::to_double(p.y()));
+    a.positions.push_back(CGAL::to_double(p.z()));
+  }
   a.triangles.reserve(3 * static_cast<std::size_t>(sm.number_of_faces()));
   for (auto f : sm.faces()) {
-    std::uint32_t tri[3];
     std::size_t degree = 0;
     for (auto v : CGAL::vertices_around_face(sm.halfedge(f), sm)) {
-      if (degree < 3) tri[degree] = static_cast<std::uint32_t>(v.idx());
+      if (degree < 3) a.triangles.push_back(a.index_of[static_cast<std::size_t>(v.idx())]);
       ++degree;
     }
     if (degree != 3)
@@ -86,40 +100,23 @@ Arrays<Point> arrays(const CGAL::Surface_mesh<Point>& sm) {
                       std::to_string(degree) +
                       " vertices; dualspectra needs a triangle mesh (triangulate first, e.g. "
                       "CGAL::Polygon_mesh_processing::triangulate_faces)");
-    for (auto k : tri) {
-      used[k] = 1;
-      a.triangles.push_back(k);  // Surface_mesh index for now, renumbered below
-    }
   }
-  for (auto v : sm.vertices()) {
-    const std::size_t k = static_cast<std::size_t>(v.idx());
-    if (!used[k]) continue;  // isolated vertex: left out
-    if (a.vertex_of.size() >= std::numeric_limits<std::uint32_t>::max())
-      throw Error(Status::InvalidMesh, "CGAL::Surface_mesh has too many vertices for 32-bit indices");
-    a.index_of[k] = static_cast<std::uint32_t>(a.vertex_of.size());
-    a.vertex_of.push_back(v);
-    const Point& p = sm.point(v);
-    a.positions.push_back(CGAL::to_double(p.x()));
-    a.positions.push_back(CGAL::to_double(p.y()));
-    a.positions.push_back(CGAL::to_double(p.z()));
-  }
-  for (auto& t : a.triangles) t = a.index_of[t];
   return a;
 }
 }  // namespace detail
 
-// Convert a triangle Surface_mesh (throws Error(Status::InvalidMesh) on polygon faces or an
-// invalid mesh; see the file comment).
+// Convert a triangle Surface_mesh (throws Error(Status::InvalidMesh) on polygon faces or a mesh
+// the intake cannot repair; see the file comment).
 template <class Point>
 Converted<Point> to_mesh(const CGAL::Surface_mesh<Point>& sm) {
   auto a = detail::arrays(sm);
-  Mesh mesh(a.positions, a.triangles);
+  Mesh mesh = Mesh::from_host(a.positions, a.triangles);
   return Converted<Point>{std::move(mesh), std::move(a.vertex_of), std::move(a.index_of)};
 }
 
-// Write per-vertex values of a dualspectra result (indexed like conv.mesh) into a vertex
-// property map `name` of sm (created if missing, reused if present); vertices of sm not in the
-// conversion get `fill`. Throws Error(Status::InvalidArgument) if the sizes do not match.
+// Write per-vertex values of a dualspectra result (one per host index, i.e. per live vertex of
+// sm) into a vertex property map `name` of sm (created if missing, reused if present). Throws
+// Error(Status::InvalidArgument) if the sizes do not match.
 template <class Point, class T, class Values>
 typename CGAL::Surface_mesh<Point>::template Property_map<typename CGAL::Surface_mesh<Point>::Vertex_index, T>
 write_vertex_values(CGAL::Surface_mesh<Point>& sm, const Converted<Point>& conv, const Values& values,
@@ -130,7 +127,6 @@ write_vertex_values(CGAL::Surface_mesh<Point>& sm, const Converted<Point>& conv,
                                              " vertex values but the converted mesh has " +
                                              std::to_string(conv.vertex_of.size()) + " vertices");
   auto map = sm.template add_property_map<V, T>(name, fill).first;
-  for (auto v : sm.vertices()) map[v] = fill;
   for (std::size_t i = 0; i < conv.vertex_of.size(); ++i) map[conv.vertex_of[i]] = static_cast<T>(values[i]);
   return map;
 }

@@ -9,7 +9,15 @@
  * 0-based uint32_t vertex indices; every fallible call returns a ds_status (DS_OK = 0) and
  * ds_last_error_message() (per thread) explains failures. No call aborts or has undefined
  * behaviour on NULL pointers, wrong lengths or out-of-range indices: they give an error code.
- * Handles are immutable after creation and may be read from several threads at once.
+ * Meshes, localizers and results are immutable after creation and may be used from several
+ * threads at once (ds_localizer_locate included); ds_options is changed by ds_options_set*.
+ *
+ *   ds_options *o; ds_options_create(&o); ds_options_set(o, "k", "10");  // names: ds_options_schema_json()
+ *   ds_mesh *full, *part;                     // from a host's arrays: results in its numbering
+ *   ds_mesh_create_from_host(xyz, nv, tri, nf, &full); ds_mesh_create_from_host(..., &part);
+ *   ds_localizer *l; ds_localizer_create(full, o, NULL, NULL, &l);   // prepare the full mesh once
+ *   ds_result *r; ds_localizer_locate(l, part, NULL, NULL, &r);     // per partial (thread-safe)
+ *   uint8_t *mask = malloc(nv); ds_result_region(r, mask, nv);
  */
 
 #ifndef DUALSPECTRA_H
@@ -20,10 +28,20 @@
 #include <stddef.h>
 #include <stdint.h>
 
-// A validated triangle mesh (immutable; may be shared between threads for reading).
+// A full mesh prepared for locating partials on it (immutable; `ds_localizer_locate` may be
+// called from several threads at once on one localizer).
+typedef struct ds_localizer ds_localizer;
+
+// A validated triangle mesh (immutable; may be shared between threads for reading). Made by
+// `ds_mesh_create` (strict) or `ds_mesh_create_from_host` (through the core's intake, with
+// the map back to the host's vertex numbering).
 typedef struct ds_mesh ds_mesh;
 
-// The result of `ds_localize` (immutable).
+// Options of the localizer, by name (`ds_options_set`); `ds_options_schema_json()` lists the
+// names, types, ranges, defaults and docs.
+typedef struct ds_options ds_options;
+
+// The result of `ds_localize` or `ds_localizer_locate` (immutable).
 typedef struct ds_result ds_result;
 
 // Status code returned by every fallible entry point (`DS_OK` = 0 on success).
@@ -32,72 +50,39 @@ typedef int32_t ds_status;
 // Which metric a spectrum is computed in.
 typedef uint32_t ds_metric;
 
-// Which spectra `ds_localize` matches (`ds_options.mode`).
-typedef uint32_t ds_mode;
-
-// How `ds_localize` chooses among its optimised starts (`ds_options.selection`).
-typedef uint32_t ds_selection;
-
-// The starting potentials around each farthest-point centre (`ds_options.start_shape`).
-typedef uint32_t ds_start_shape;
-
-// Parameters of `ds_localize`. Start from `ds_options_default()` and change fields.
-typedef struct ds_options {
-  // One of `DS_MODE_DUAL`, `DS_MODE_LBO`, `DS_MODE_SI`.
-  ds_mode mode;
-  // Eigenvalues per spectrum (`dual` uses k + k, `lbo`/`si` use 2k); at least 1.
-  size_t k;
-  // Exponent of the scale-invariant factor (paper default 0.33).
-  double alpha;
-  // Seed of every random choice: results are deterministic for a given seed.
-  uint64_t seed;
-  // Vertices of the decimated full shape the potential is optimised on (0: no decimation).
-  size_t resolution;
-  // Farthest-point centres of the starts (each gives 3 starts; the plane cuts come on top).
-  size_t centers;
-  // Trust-region iterations per start (at least 1).
-  size_t max_iterations;
-  // Worker threads (0: all cores).
-  size_t threads;
-  // One of `DS_SELECTION_DESCRIPTORS`, `DS_SELECTION_COST`, `DS_SELECTION_REGION`, `DS_SELECTION_GATED`.
-  ds_selection selection;
-  // One of `DS_STARTS_BALLS_AND_WIDE_BUMPS`, `DS_STARTS_BALLS_AND_WIDE_GAUSSIANS`,
-  // `DS_STARTS_GAUSSIAN`, `DS_STARTS_AREA_BALL`.
-  ds_start_shape start_shape;
-  // Further starts from the full shape's first `spectral_cuts` eigenfunctions, two each (the
-  // region on either side of a level set, with the partial's area); 0: none (the default).
-  size_t spectral_cuts;
-  // Further starts, one per direction: the side of a plane with the partial's area, normal to
-  // the first `plane_cuts` of 26 directions (6, the default: both ways along the full shape's
-  // principal axes; 14: and the diagonals; 26: and the face diagonals); at most 26.
-  size_t plane_cuts;
-} ds_options;
-
 // Progress callback: `fraction` in [0, 1] of the whole computation, `stage` a short
-// NUL-terminated name valid only during the call, `user` the pointer given to `ds_localize`.
-// Return non-zero to continue, 0 to cancel (`ds_localize` then returns `DS_CANCELLED`).
-// Calls are serialized (never concurrent) but may come from a worker thread. The callback
-// must not unwind (no C++ exception, no longjmp) out of itself.
+// NUL-terminated name valid only during the call, `user` the pointer given with it.
+// Return non-zero to continue, 0 to cancel (the call then returns `DS_CANCELLED`).
+// The calls of one computation are serialized (never concurrent) but may come from a worker
+// thread. The callback must not unwind (no C++ exception, no longjmp) out of itself.
 typedef int (*ds_progress_fn)(double fraction, const char *stage, void *user);
 
-// Wall-clock seconds per stage of `ds_localize`.
+// Wall-clock seconds per stage.
 typedef struct ds_timings {
+  // Preparing the full mesh (0 for a result of `ds_localizer_locate`: see
+  // `ds_localizer_preparation_seconds`).
+  double preparation;
+  // The partial's spectra and descriptors.
   double preprocessing;
   double starts;
   double optimisation;
-  double selection;
+  // Each candidate's region on the full mesh.
   double region;
+  // Scoring the candidates and choosing one.
+  double selection;
   double total;
 } ds_timings;
 
 // Success.
 #define DS_OK 0
 
-// A NULL/misaligned pointer, a wrong array length, an unknown enum value or an option out of range.
+// A NULL/misaligned pointer, a wrong array length, an unknown metric, an unknown option or a
+// value out of its range (the message names the option and its range).
 #define DS_INVALID_ARGUMENT 1
 
-// The mesh arrays do not describe a valid triangle mesh (index out of range, degenerate or
-// non-manifold face, isolated vertex, non-finite coordinate, ...).
+// The mesh arrays do not describe a valid triangle mesh (index out of range, non-manifold edge
+// or vertex, non-finite coordinate; for `ds_mesh_create` also a degenerate face or a vertex in
+// no face).
 #define DS_INVALID_MESH 2
 
 // A numerical method failed (eigensolver, factorization, optimiser).
@@ -111,41 +96,6 @@ typedef struct ds_timings {
 
 // A file could not be read or parsed.
 #define DS_IO 6
-
-// k regular + k scale-invariant eigenvalues (the paper's method; the default).
-#define DS_MODE_DUAL 0
-
-// 2k regular (Laplace-Beltrami) eigenvalues only.
-#define DS_MODE_LBO 1
-
-// 2k scale-invariant eigenvalues only.
-#define DS_MODE_SI 2
-
-// SHOT descriptors projected on the first eigenfunctions (the paper's rule).
-#define DS_SELECTION_DESCRIPTORS 0
-
-// The lowest final alignment cost.
-#define DS_SELECTION_COST 1
-
-// The lowest alignment cost of the candidate's extracted region as a step potential.
-#define DS_SELECTION_REGION 2
-
-// The lowest descriptor score among the candidates whose region cost is at most 3x the
-// lowest (the default).
-#define DS_SELECTION_GATED 3
-
-// A well on the ball with the partial's area, one on everything but a ball with the rest of
-// the area, and a wide Gaussian bump: 3 starts per centre (the default).
-#define DS_STARTS_BALLS_AND_WIDE_BUMPS 0
-
-// The two balls, and the wide Gaussian well and bump: 4 starts per centre.
-#define DS_STARTS_BALLS_AND_WIDE_GAUSSIANS 1
-
-// The reference's Gaussians, two widths, both signs: 4 starts per centre.
-#define DS_STARTS_GAUSSIAN 2
-
-// The two balls only: 2 starts per centre.
-#define DS_STARTS_AREA_BALL 3
 
 // The surface's own metric (Laplace-Beltrami spectrum).
 #define DS_METRIC_REGULAR 0
@@ -171,8 +121,8 @@ const char *ds_last_error_message(void);
 const char *ds_status_name(ds_status status);
 
 // Create a mesh from `n_vertices` positions `xyz[3*i .. 3*i+3]` and `n_faces` triangles
-// `tri[3*f .. 3*f+3]` (0-based vertex indices). The arrays are copied. On success `*out`
-// receives a handle to release with `ds_mesh_destroy`.
+// `tri[3*f .. 3*f+3]` (0-based vertex indices), checked strictly. The arrays are copied. On
+// success `*out` receives a handle to release with `ds_mesh_destroy`.
 //
 // Errors: `DS_INVALID_ARGUMENT` (NULL/misaligned pointers, overflowing counts),
 // `DS_INVALID_MESH` (index out of range, repeated/degenerate face, non-manifold edge or
@@ -183,15 +133,20 @@ const char *ds_status_name(ds_status status);
 // with a zero count); `out` must be valid for writing one pointer.
 ds_status ds_mesh_create(const double *xyz, size_t n_vertices, const uint32_t *tri, size_t n_faces, struct ds_mesh **out);
 
-// As `ds_mesh_create`, but vertices referenced by no face are dropped instead of rejected
-// (e.g. unreferenced or deleted vertices of an editor's mesh). If `kept` is not NULL it
-// receives, for each vertex of the new mesh, its index in the input
-// (`kept[new] = old`); it must have room for `kept_capacity >= n_vertices` entries.
-// `*n_kept` (if not NULL) receives the number of vertices of the new mesh.
+// Create a mesh from a host's arrays (an editor's mesh, a file) through the core's intake:
+// faces that repeat a vertex or have zero area, then vertices in no face, are left out, and
+// the mesh remembers the map back to the host's vertices. Every per-vertex array in or out
+// (`ds_gaussian_curvature`, `ds_result_region`, ...) is then in the host's numbering, of
+// length `ds_mesh_n_vertices` = `n_vertices`; left-out vertices get 0. What was left out is
+// said by `ds_mesh_warning` and among the warnings of every result computed with the mesh.
+//
+// Errors: as `ds_mesh_create`, without the degenerate-face and vertex-in-no-face cases
+// (`DS_INVALID_MESH` when every face is degenerate). Vertex and face numbers in the messages
+// are the host's.
 //
 // # Safety
-// As `ds_mesh_create`; `kept` valid for `kept_capacity` writes, `n_kept` for one.
-ds_status ds_mesh_create_dropping_isolated(const double *xyz, size_t n_vertices, const uint32_t *tri, size_t n_faces, uint32_t *kept, size_t kept_capacity, size_t *n_kept, struct ds_mesh **out);
+// As `ds_mesh_create`.
+ds_status ds_mesh_create_from_host(const double *xyz, size_t n_vertices, const uint32_t *tri, size_t n_faces, struct ds_mesh **out);
 
 // Release a mesh (NULL is ignored).
 //
@@ -199,21 +154,43 @@ ds_status ds_mesh_create_dropping_isolated(const double *xyz, size_t n_vertices,
 // `mesh` must be NULL or a handle from `ds_mesh_create*` not yet destroyed.
 void ds_mesh_destroy(struct ds_mesh *mesh);
 
-// Number of vertices (0 for NULL).
+// Number of vertices in the host's numbering: the length of every per-vertex array of the
+// mesh (the given `n_vertices`; 0 for NULL).
 //
 // # Safety
 // `mesh` must be NULL or a live handle.
 size_t ds_mesh_n_vertices(const struct ds_mesh *mesh);
 
-// Number of faces (0 for NULL).
+// Number of faces used (the given ones, less those the intake left out; 0 for NULL).
 //
 // # Safety
 // `mesh` must be NULL or a live handle.
 size_t ds_mesh_n_faces(const struct ds_mesh *mesh);
 
+// Number of vertices used (those of some used face; 0 for NULL).
+//
+// # Safety
+// `mesh` must be NULL or a live handle.
+size_t ds_mesh_n_used_vertices(const struct ds_mesh *mesh);
+
+// The host index of each used vertex, increasing (`out_len == ds_mesh_n_used_vertices`).
+//
+// # Safety
+// `mesh` a live handle; `out` valid for `out_len` writes.
+ds_status ds_mesh_used_vertices(const struct ds_mesh *mesh, uint32_t *out, size_t out_len);
+
+// What the intake left out of a mesh from `ds_mesh_create_from_host`, as a sentence owned by
+// the mesh (valid until `ds_mesh_destroy`); NULL if nothing was (always for `ds_mesh_create`)
+// or for a NULL mesh.
+//
+// # Safety
+// `mesh` must be NULL or a live handle.
+const char *ds_mesh_warning(const struct ds_mesh *mesh);
+
 // Pointwise Gaussian curvature per vertex (angle defect over barycentric area; with
 // `smoothed != 0`, then averaged over each vertex's one-ring, as the scale-invariant metric
-// uses). `out` must hold `out_len == ds_mesh_n_vertices(mesh)` doubles.
+// uses). `out` must hold `out_len == ds_mesh_n_vertices(mesh)` doubles (host numbering; 0 at
+// vertices the intake left out).
 //
 // # Safety
 // `mesh` a live handle; `out` valid for `out_len` writes.
@@ -228,35 +205,149 @@ ds_status ds_gaussian_curvature(const struct ds_mesh *mesh, int smoothed, double
 // `mesh` a live handle; `out` valid for `out_len` writes.
 ds_status ds_spectrum(const struct ds_mesh *mesh, size_t k, ds_metric metric, double alpha, double *out, size_t out_len);
 
-// The paper's default parameters.
-struct ds_options ds_options_default(void);
+// Every option as a JSON array, in the order front ends list them:
+// `[{"name", "label", "type": "int"|"float"|"choice", "min", "max" | "choices", "default",
+// "doc"}, ...]`. A static string (never NULL), for building parameter lists (GUI, flags).
+const char *ds_options_schema_json(void);
 
-// Find the region of `full` that `partial` corresponds to. `options` may be NULL (defaults);
-// `progress` may be NULL. On success `*out` receives a result to release with
-// `ds_result_destroy`.
-//
-// Errors: `DS_INVALID_ARGUMENT` (NULL meshes/out, unknown mode, k = 0, non-finite alpha),
-// `DS_NUMERICAL`, `DS_CANCELLED` (the callback returned 0).
+// Create options holding the defaults. On success `*out` receives a handle to release with
+// `ds_options_destroy`.
 //
 // # Safety
-// `full`, `partial` live handles; `options` NULL or valid; `out` valid for one write;
+// `out` must be valid for writing one pointer.
+ds_status ds_options_create(struct ds_options **out);
+
+// Release options (NULL is ignored).
+//
+// # Safety
+// `options` must be NULL or a handle from `ds_options_create` not yet destroyed.
+void ds_options_destroy(struct ds_options *options);
+
+// Set the option `name` from text: `"20"`, `"0.5"`, `"lbo"` (names and ranges:
+// `ds_options_schema_json`). A value out of range, of the wrong type, or an unknown name is
+// `DS_INVALID_ARGUMENT` with a message naming the option and its range; the options are then
+// unchanged.
+//
+// # Safety
+// `options` a live handle not used by another thread during the call; `name` and `value`
+// NUL-terminated strings.
+ds_status ds_options_set(struct ds_options *options, const char *name, const char *value);
+
+// Set the options of a JSON object, e.g. `{"k": 10, "mode": "lbo"}` (numbers as numbers or
+// text), on top of the current ones: all or none (on error the options are unchanged and the
+// message names the offending option).
+//
+// # Safety
+// As `ds_options_set`; `json_object` a NUL-terminated string.
+ds_status ds_options_set_json(struct ds_options *options, const char *json_object);
+
+// Every option's value as a JSON object (`{"mode":"dual","k":20,...}`), owned by the handle:
+// valid until the next `ds_options_set*` or `ds_options_destroy` on it. NULL for NULL.
+//
+// # Safety
+// `options` must be NULL or a live handle.
+const char *ds_options_json(const struct ds_options *options);
+
+// Prepare `full` for locating partials on it: its scale, optimisation mesh, descriptors and
+// start positions, computed once. `options` may be NULL (defaults); the options are checked
+// here and copied. `progress` may be NULL. On success `*out` receives a handle to release
+// with `ds_localizer_destroy`; the mesh handle may be destroyed after this call.
+//
+// Errors: `DS_INVALID_ARGUMENT` (NULL mesh/out, options out of range), `DS_NUMERICAL`,
+// `DS_CANCELLED` (the callback returned 0).
+//
+// # Safety
+// `full` a live handle; `options` NULL or a live handle; `out` valid for one write;
+// `progress` NULL or a function callable as described for `ds_progress_fn`.
+ds_status ds_localizer_create(const struct ds_mesh *full, const struct ds_options *options, ds_progress_fn progress, void *user, struct ds_localizer **out);
+
+// Find the region of the prepared full mesh that `partial` is. May be called from several
+// threads at once on one localizer (each call with its own callback and result). On success
+// `*out` receives a result to release with `ds_result_destroy`; its per-vertex arrays are in
+// the host's numbering of the full mesh.
+//
+// Errors: `DS_INVALID_ARGUMENT` (NULL handles/out; a partial without boundary or larger than
+// the full mesh), `DS_NUMERICAL`, `DS_CANCELLED`.
+//
+// # Safety
+// `localizer`, `partial` live handles; `out` valid for one write; `progress` as for
+// `ds_localizer_create`.
+ds_status ds_localizer_locate(const struct ds_localizer *localizer, const struct ds_mesh *partial, ds_progress_fn progress, void *user, struct ds_result **out);
+
+// Release a localizer (NULL is ignored). No `ds_localizer_locate` on it may be running.
+//
+// # Safety
+// `localizer` must be NULL or a handle from `ds_localizer_create` not yet destroyed.
+void ds_localizer_destroy(struct ds_localizer *localizer);
+
+// Vertices of the full mesh in the host's numbering: the length of every result's per-vertex
+// arrays (0 for NULL).
+//
+// # Safety
+// `localizer` must be NULL or a live handle.
+size_t ds_localizer_n_vertices(const struct ds_localizer *localizer);
+
+// Vertices of the optimisation mesh (the full mesh decimated to about the `resolution`
+// option; 0 for NULL).
+//
+// # Safety
+// `localizer` must be NULL or a live handle.
+size_t ds_localizer_optimisation_vertices(const struct ds_localizer *localizer);
+
+// Seconds `ds_localizer_create` took.
+//
+// # Safety
+// `localizer` a live handle; `out` valid for one write.
+ds_status ds_localizer_preparation_seconds(const struct ds_localizer *localizer, double *out);
+
+// The options the localizer was prepared with, as a JSON object owned by the localizer
+// (valid until `ds_localizer_destroy`); NULL for NULL.
+//
+// # Safety
+// `localizer` must be NULL or a live handle.
+const char *ds_localizer_options_json(const struct ds_localizer *localizer);
+
+// Number of notes on the preparation (what the intake left out of the full mesh, a
+// decimation that failed, ...); they are repeated in every result. 0 for NULL.
+//
+// # Safety
+// `localizer` must be NULL or a live handle.
+size_t ds_localizer_n_warnings(const struct ds_localizer *localizer);
+
+// Note `index` (< `ds_localizer_n_warnings`), owned by the localizer (valid until
+// `ds_localizer_destroy`); NULL for a NULL localizer or an index out of range.
+//
+// # Safety
+// `localizer` must be NULL or a live handle.
+const char *ds_localizer_warning(const struct ds_localizer *localizer, size_t index);
+
+// Find the region of `full` that `partial` corresponds to, in one call (prepare, then locate;
+// to locate several partials on one full mesh, prepare it once with `ds_localizer_create`).
+// `options` may be NULL (defaults); `progress` may be NULL. On success `*out` receives a
+// result to release with `ds_result_destroy`.
+//
+// Errors: as `ds_localizer_create` and `ds_localizer_locate`.
+//
+// # Safety
+// `full`, `partial` live handles; `options` NULL or a live handle; `out` valid for one write;
 // `progress` NULL or a function callable as described for `ds_progress_fn`.
 ds_status ds_localize(const struct ds_mesh *full, const struct ds_mesh *partial, const struct ds_options *options, ds_progress_fn progress, void *user, struct ds_result **out);
 
 // Release a result (NULL is ignored).
 //
 // # Safety
-// `result` must be NULL or a handle from `ds_localize` not yet destroyed.
+// `result` must be NULL or a handle from `ds_localize`/`ds_localizer_locate` not yet destroyed.
 void ds_result_destroy(struct ds_result *result);
 
-// Number of vertices of the full mesh, the length of the per-vertex arrays (0 for NULL).
+// Number of vertices of the full mesh in the host's numbering, the length of the per-vertex
+// arrays (0 for NULL).
 //
 // # Safety
 // `result` must be NULL or a live handle.
 size_t ds_result_n_vertices(const struct ds_result *result);
 
-// The region: `out[i] = 1` if vertex `i` of the full mesh is in the matched region, else 0.
-// `out_len` must equal `ds_result_n_vertices(result)`.
+// The region: `out[i] = 1` if vertex `i` of the full mesh is in the matched region, else 0
+// (0 at vertices the intake left out). `out_len` must equal `ds_result_n_vertices(result)`.
 //
 // # Safety
 // `result` a live handle; `out` valid for `out_len` writes.
@@ -300,7 +391,7 @@ ds_status ds_result_target_eigenvalues(const struct ds_result *result, ds_metric
 // `result` a live handle; `out` valid for one write.
 ds_status ds_result_cost(const struct ds_result *result, double *out);
 
-// Total wall-clock seconds of `ds_localize`.
+// Total wall-clock seconds of the call that made the result.
 //
 // # Safety
 // `result` a live handle; `out` valid for one write.
@@ -318,8 +409,9 @@ ds_status ds_result_timings(const struct ds_result *result, struct ds_timings *o
 // `result` a live handle; non-NULL pointers valid for one write.
 ds_status ds_result_starts(const struct ds_result *result, size_t *selected, size_t *n_starts);
 
-// Number of warnings about repairs made to the input (e.g. a disconnected partial reduced to
-// its largest component); 0 for NULL.
+// Number of warnings about what was repaired or left out (what the intake left out of the
+// full and partial meshes, a disconnected partial reduced to its largest component, ...); 0
+// for NULL.
 //
 // # Safety
 // `result` must be NULL or a live handle.

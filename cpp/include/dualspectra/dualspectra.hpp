@@ -2,12 +2,18 @@
 //
 // A thin layer over the Rust core through a cxx bridge (rust/dualspectra-ffi/src/cxx_bridge.rs);
 // every computation happens in Rust. Errors are thrown as dualspectra::Error (a
-// std::runtime_error with a Status). Meshes are immutable and may be shared between threads.
+// std::runtime_error with a Status). Meshes and localizers are immutable and may be shared
+// between threads.
 //
 //   #include <dualspectra/dualspectra.hpp>
 //   dualspectra::Mesh full(V, F), part(Vp, Fp);          // std::vector<std::array<...,3>>
-//   dualspectra::Localization r = dualspectra::localize(full, part);
+//   dualspectra::Options opts;
+//   opts.set("k", 10).set("mode", "dual");                // names and ranges: Options::schema()
+//   dualspectra::Localization r = dualspectra::localize(full, part, opts);
 //   for (std::size_t i = 0; i < r.region.size(); ++i) if (r.region[i]) ...;
+//
+//   dualspectra::Localizer prepared(full, opts);          // several partials on one full mesh:
+//   auto a = prepared.locate(part_a), b = prepared.locate(part_b);  // prepared once
 #pragma once
 
 #include <array>
@@ -17,10 +23,11 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include "rust/cxx.h"
-#include "dualspectra-ffi/src/cxx_bridge.rs.h"  // generated: Options, Timings, Mode, Selection, StartShape, Metric, Status
+#include "dualspectra-ffi/src/cxx_bridge.rs.h"  // generated: Timings, Metric, Status, detail::*
 
 namespace dualspectra {
 
@@ -35,11 +42,17 @@ class Error : public std::runtime_error {
   Status status_;
 };
 
-// A validated triangle mesh: vertex positions and 0-based triangles. Construction checks
-// indices in range, finite coordinates, no degenerate or repeated-vertex faces,
-// edge/vertex-manifoldness and no isolated vertices; it throws Error(Status::InvalidMesh)
-// otherwise. The arrays are copied. Operators (stiffness, mass, curvature) are computed once
-// on first use and cached.
+// A validated triangle mesh. The arrays are copied; operators (stiffness, mass, curvature) are
+// computed once on first use and cached.
+//
+// Two ways in:
+//  - the constructors check strictly: indices in range, finite coordinates, no degenerate or
+//    repeated-vertex face, edge/vertex-manifold, no vertex in no face; otherwise they throw
+//    Error(Status::InvalidMesh) with the reason;
+//  - Mesh::from_host takes a host's arrays (an editor's mesh, a file) through the core's
+//    intake: faces that repeat a vertex or have zero area, then vertices in no face, are left
+//    out (warning() says what), and every per-vertex array in or out (curvature, mass, the
+//    Localization) stays in the host's numbering, with 0 / false at the left-out vertices.
 class Mesh {
  public:
   // Flat arrays: positions[3*i + d], triangles[3*f + c].
@@ -47,48 +60,135 @@ class Mesh {
   Mesh(const std::vector<double>& positions, const std::vector<std::uint32_t>& triangles);
   Mesh(const std::vector<std::array<double, 3>>& vertices, const std::vector<std::array<std::uint32_t, 3>>& faces);
 
+  static Mesh from_host(const double* positions, std::size_t n_vertices, const std::uint32_t* triangles,
+                        std::size_t n_faces);
+  static Mesh from_host(const std::vector<double>& positions, const std::vector<std::uint32_t>& triangles);
+  static Mesh from_host(const std::vector<std::array<double, 3>>& vertices,
+                        const std::vector<std::array<std::uint32_t, 3>>& faces);
+
+  // Vertices in the host's numbering: the length of every per-vertex array.
   std::size_t n_vertices() const noexcept { return data_->n_vertices(); }
+  // Faces used (for from_host: less those left out).
   std::size_t n_faces() const noexcept { return data_->n_faces(); }
+  // The mesh the core works on: the used vertices (in host order) and faces into them. For a
+  // strictly checked mesh, the given arrays.
   std::vector<std::array<double, 3>> vertices() const;
   std::vector<std::array<std::uint32_t, 3>> faces() const;
+  // Host index of each used vertex (increasing; 0, 1, 2, ... for a strictly checked mesh).
+  std::vector<std::uint32_t> used_vertices() const;
+  // What the intake left out, as a sentence ("" if nothing).
+  std::string warning() const;
 
   const detail::MeshData& data() const noexcept { return *data_; }
 
  private:
+  explicit Mesh(rust::Box<detail::MeshData> data) : data_(std::move(data)) {}
   rust::Box<detail::MeshData> data_;
 };
 
-// The result of localize(); per-vertex arrays are indexed by the full mesh's vertices.
+// Options of the localizer, by name. The names, labels, types, ranges, defaults and docs are
+// the core's (Options::schema()), so a new core option needs no change here. A value out of
+// range, of the wrong type or an unknown name throws Error(Status::InvalidArgument) naming the
+// option and its range, and leaves the options unchanged.
+//
+//   dualspectra::Options o;                       // the defaults
+//   o.set("k", 10).set("alpha", 0.5).set("mode", "lbo").set("plane_cuts", "14");
+class Options {
+ public:
+  Options();
+  Options(const Options& other);
+  Options& operator=(const Options& other);
+  Options(Options&&) noexcept = default;
+  Options& operator=(Options&&) noexcept = default;
+
+  // The defaults with the options of a JSON object set ({"k": 10, "mode": "lbo"}).
+  static Options from_json(std::string_view json_object);
+
+  // Set from text ("20", "0.5", "dual"), as a command line or a GUI gives it.
+  Options& set(std::string_view name, std::string_view value);
+  Options& set(std::string_view name, const char* value) { return set(name, std::string_view(value)); }
+  Options& set(std::string_view name, const std::string& value) { return set(name, std::string_view(value)); }
+  // Set a number (an integer option refuses a fractional or negative value).
+  template <class T, std::enable_if_t<std::is_integral<T>::value && !std::is_same<T, bool>::value, int> = 0>
+  Options& set(std::string_view name, T value) {
+    if (std::is_signed<T>::value) return set_integer(name, static_cast<long long>(value));
+    return set_unsigned(name, static_cast<unsigned long long>(value));
+  }
+  Options& set(std::string_view name, double value);
+  // Set the options of a JSON object on top of these (all or none).
+  Options& set_json(std::string_view json_object);
+
+  // Every option's value as a JSON object ({"mode":"dual","k":20,...}).
+  std::string json() const;
+  // Every option as a JSON array of {"name", "label", "type" ("int", "float", "choice"),
+  // "min", "max" | "choices", "default", "doc"}, in the order front ends list them.
+  static std::string schema();
+
+  const detail::OptionsData& data() const noexcept { return *data_; }
+
+ private:
+  explicit Options(rust::Box<detail::OptionsData> data) : data_(std::move(data)) {}
+  Options& set_integer(std::string_view name, long long value);
+  Options& set_unsigned(std::string_view name, unsigned long long value);
+  rust::Box<detail::OptionsData> data_;
+  friend class Localizer;
+};
+
+// The result of a localization; per-vertex arrays are indexed by the full mesh's vertices (in
+// its host's numbering, see Mesh::from_host).
 struct Localization {
   std::vector<bool> region;            // true: vertex in the matched region
   std::vector<double> score;           // soft membership in [0, 1]
   std::vector<double> potential;       // optimised potential v >= 0
-  std::vector<double> eigenvalues_regular;  // Hamiltonian eigenvalues at the optimum (empty in Si mode)
-  std::vector<double> eigenvalues_si;       // (empty in Lbo mode)
+  std::vector<double> eigenvalues_regular;  // Hamiltonian eigenvalues at the optimum (empty in si mode)
+  std::vector<double> eigenvalues_si;       // (empty in lbo mode)
   std::vector<double> target_regular;       // the partial shape's Dirichlet eigenvalues
   std::vector<double> target_si;
   double cost = 0.0;                   // final alignment cost of the selected start
   std::size_t selected_start = 0;
   std::size_t n_starts = 0;
   Timings timings{};                   // wall-clock seconds per stage
-  std::vector<std::string> warnings;   // repairs made to the input (e.g. partial reduced to its largest component)
+  // What was repaired or left out: the intake's notes on the full and partial meshes, a
+  // disconnected partial reduced to its largest component, ...
+  std::vector<std::string> warnings;
 
   // Indices of the vertices in the region, ascending.
   std::vector<std::uint32_t> region_vertices() const;
 };
 
 // fraction in [0, 1] of the whole computation, stage a short name; return false to cancel
-// (localize then throws Error(Status::Cancelled)). An exception thrown by the callback cancels
-// the computation and is rethrown by localize. Calls are serialized but may come from a
-// worker thread.
+// (the call then throws Error(Status::Cancelled)). An exception thrown by the callback cancels
+// the computation and is rethrown by the call. The calls of one computation are serialized
+// but may come from a worker thread.
 using ProgressCallback = std::function<bool(double fraction, std::string_view stage)>;
 
-// The library's defaults (Mode::Dual, k = 20, alpha = 0.33, seed 0, optimisation on a 1000-vertex
-// decimation, 4 centres x 3 starts, 25 trust-region iterations, all cores, gated selection).
-Options default_options();
+// A full mesh prepared for locating partials on it: what depends on the full shape alone
+// (scale, optimisation mesh, descriptors, start positions) is computed once, by the
+// constructor. locate() may be called from several threads at once.
+class Localizer {
+ public:
+  explicit Localizer(const Mesh& full, const Options& options = Options(), const ProgressCallback& progress = {});
 
-// Find the region of `full` that `partial` corresponds to.
-Localization localize(const Mesh& full, const Mesh& partial, const Options& options = default_options(),
+  // Find the region of the full mesh that `partial` is.
+  Localization locate(const Mesh& partial, const ProgressCallback& progress = {}) const;
+
+  // Vertices of the full mesh (host numbering): the length of every result's arrays.
+  std::size_t n_vertices() const noexcept { return data_->n_vertices(); }
+  // Vertices of the optimisation mesh (the full mesh decimated to about "resolution").
+  std::size_t optimisation_vertices() const noexcept { return data_->optimisation_vertices(); }
+  // Seconds the constructor took.
+  double preparation_seconds() const noexcept { return data_->preparation_seconds(); }
+  // Notes on the preparation (repeated in every result).
+  std::vector<std::string> warnings() const;
+  // The options it was prepared with.
+  Options options() const;
+
+ private:
+  rust::Box<detail::LocalizerData> data_;
+};
+
+// Find the region of `full` that `partial` corresponds to, in one call (a Localizer used once).
+Localization localize(const Mesh& full, const Mesh& partial, const Options& options = Options(),
                       const ProgressCallback& progress = {});
 
 // Pointwise Gaussian curvature per vertex: angle defect over barycentric area; with
@@ -105,11 +205,12 @@ struct SparseMatrix {
 
 // The cotangent stiffness matrix W (symmetric positive semi-definite, rows sum to 0):
 // W_ij = -(cot a_ij + cot b_ij) / 2 for an edge ij, W_ii = -sum_j W_ij; W = -L for libigl's
-// cotmatrix L.
+// cotmatrix L. n = mesh.n_vertices() (host numbering; no entries at left-out vertices).
 SparseMatrix cotangent_stiffness(const Mesh& mesh);
 
 // The lumped mass diagonal of `metric`: a_i = (area of the faces at i) / 3 (Regular), or
-// s_i a_i with s = (1e-8 + K_smoothed^2)^(alpha/2) (ScaleInvariant).
+// s_i a_i with s = (1e-8 + K_smoothed^2)^(alpha/2) (ScaleInvariant; alpha defaults to the
+// "alpha" option's default).
 std::vector<double> mass(const Mesh& mesh, Metric metric = Metric::Regular);
 std::vector<double> mass(const Mesh& mesh, Metric metric, double alpha);
 

@@ -5,16 +5,18 @@
 //   #include <dualspectra/openmesh.hpp>
 //   OpenMesh::TriMesh_ArrayKernelT<> full_om, part_om;  // float or double points
 //   auto full = dualspectra::openmesh::to_mesh(full_om), part = dualspectra::openmesh::to_mesh(part_om);
-//   dualspectra::Localization r = dualspectra::localize(full.mesh, part.mesh);
+//   dualspectra::Localization r = dualspectra::localize(full.mesh, part.mesh);  // or a Localizer
 //   dualspectra::openmesh::write_region(full_om, full, r);  // bool property + status().selected()
 //
 // Works with any OpenMesh mesh type (TriMesh or PolyMesh kernels, float or double points).
-// Conversion: the non-deleted vertices that belong to at least one non-deleted face become the
-// dualspectra vertices, in handle order; deleted elements (before garbage_collection) are
-// skipped and isolated vertices left out (they get `false` / 0 on write-back). Every face must
-// be a triangle: a polygon face throws dualspectra::Error(Status::InvalidMesh) naming it
-// (triangulate first: mesh.triangulate()). The dualspectra::Mesh constructor then validates the
-// result and throws Error(Status::InvalidMesh) with its reason.
+// Conversion: the non-deleted vertices, in handle order, and the non-deleted faces are the
+// host's arrays handed to the core's mesh intake (dualspectra::Mesh::from_host): it leaves out
+// zero-area faces and vertices in no face (isolated), says so in conv.mesh.warning() and in the
+// result's warnings, and gives every result back for all non-deleted vertices (`false` / 0 at
+// the left-out ones). Deleted elements (before garbage_collection) are skipped here. Every face
+// must be a triangle: a polygon face throws dualspectra::Error(Status::InvalidMesh) naming it
+// (triangulate first: mesh.triangulate()). What the intake cannot repair throws
+// Error(Status::InvalidMesh) with its reason.
 #pragma once
 
 #include <cstddef>
@@ -34,10 +36,12 @@ namespace openmesh {
 
 // An OpenMesh mesh converted to a dualspectra::Mesh, with the vertex correspondence.
 struct Converted {
+  // The non-deleted vertices and faces through the core's intake: per-vertex results have one
+  // value per non-deleted vertex (mesh.n_vertices() == vertex_of.size()).
   Mesh mesh;
-  // vertex_of[i]: the OpenMesh vertex of dualspectra vertex i.
+  // vertex_of[i]: the OpenMesh vertex of host index i (every non-deleted vertex).
   std::vector<OpenMesh::VertexHandle> vertex_of;
-  // index_of[vh.idx()]: dualspectra index of an OpenMesh vertex, or `none` (deleted or isolated).
+  // index_of[vh.idx()]: host index of an OpenMesh vertex, or `none` (deleted).
   std::vector<std::uint32_t> index_of;
   static constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
 
@@ -46,52 +50,44 @@ struct Converted {
   }
 };
 
-// Convert an OpenMesh triangle mesh (throws Error(Status::InvalidMesh) on polygon faces or an
-// invalid mesh; see the file comment).
+// Convert an OpenMesh triangle mesh (throws Error(Status::InvalidMesh) on polygon faces or a
+// mesh the intake cannot repair; see the file comment).
 template <class OMesh>
 Converted to_mesh(const OMesh& om) {
   constexpr std::uint32_t none = Converted::none;
   const std::size_t slots = om.n_vertices();  // handle space, deleted vertices included
   if (slots >= none) throw Error(Status::InvalidMesh, "OpenMesh mesh has too many vertices for 32-bit indices");
   std::vector<std::uint32_t> index_of(slots, none);
-  std::vector<char> used(slots, 0);
-  std::vector<std::uint32_t> triangles;
-  triangles.reserve(3 * om.n_faces());
-  for (auto fh : om.faces()) {  // skips deleted faces
-    std::uint32_t tri[3];
-    std::size_t degree = 0;
-    for (auto vh : om.fv_range(fh)) {
-      if (degree < 3) tri[degree] = static_cast<std::uint32_t>(vh.idx());
-      ++degree;
-    }
-    if (degree != 3)
-      throw Error(Status::InvalidMesh, "OpenMesh face " + std::to_string(fh.idx()) + " has " + std::to_string(degree) +
-                                           " vertices; dualspectra needs a triangle mesh (call mesh.triangulate() first)");
-    for (auto k : tri) {
-      used[k] = 1;
-      triangles.push_back(k);  // OpenMesh index for now, renumbered below
-    }
-  }
   std::vector<OpenMesh::VertexHandle> vertex_of;
   std::vector<double> positions;
+  positions.reserve(3 * slots);
   for (auto vh : om.vertices()) {  // skips deleted vertices
-    const auto k = static_cast<std::size_t>(vh.idx());
-    if (!used[k]) continue;
-    index_of[k] = static_cast<std::uint32_t>(vertex_of.size());
+    index_of[static_cast<std::size_t>(vh.idx())] = static_cast<std::uint32_t>(vertex_of.size());
     vertex_of.push_back(OpenMesh::VertexHandle(vh.idx()));
     const auto& p = om.point(vh);
     positions.push_back(static_cast<double>(p[0]));
     positions.push_back(static_cast<double>(p[1]));
     positions.push_back(static_cast<double>(p[2]));
   }
-  for (auto& t : triangles) t = index_of[t];
-  Mesh mesh(positions, triangles);
+  std::vector<std::uint32_t> triangles;
+  triangles.reserve(3 * om.n_faces());
+  for (auto fh : om.faces()) {  // skips deleted faces
+    std::size_t degree = 0;
+    for (auto vh : om.fv_range(fh)) {
+      if (degree < 3) triangles.push_back(index_of[static_cast<std::size_t>(vh.idx())]);
+      ++degree;
+    }
+    if (degree != 3)
+      throw Error(Status::InvalidMesh, "OpenMesh face " + std::to_string(fh.idx()) + " has " + std::to_string(degree) +
+                                           " vertices; dualspectra needs a triangle mesh (call mesh.triangulate() first)");
+  }
+  Mesh mesh = Mesh::from_host(positions, triangles);
   return Converted{std::move(mesh), std::move(vertex_of), std::move(index_of)};
 }
 
-// Write per-vertex values of a dualspectra result (indexed like conv.mesh) into the vertex
-// property `name` of om (created if missing, reused if present); vertices not in the conversion
-// get `fill`. Throws Error(Status::InvalidArgument) if the sizes do not match.
+// Write per-vertex values of a dualspectra result (one per host index, i.e. per non-deleted
+// vertex of om) into the vertex property `name` of om (created if missing, reused if present);
+// deleted vertices get `fill`. Throws Error(Status::InvalidArgument) if the sizes do not match.
 template <class T, class OMesh, class Values>
 OpenMesh::VPropHandleT<T> write_vertex_values(OMesh& om, const Converted& conv, const Values& values,
                                               const std::string& name, T fill) {

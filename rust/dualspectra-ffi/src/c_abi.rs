@@ -1,35 +1,41 @@
 //! The C ABI of dualspectra (header: `cpp/include/dualspectra/dualspectra.h`).
 //!
 //! Conventions, the same at every entry point:
-//! - Opaque handles (`ds_mesh`, `ds_result`) created by `*_create`/`ds_localize` and released by
-//!   `*_destroy` (which accept NULL).
+//! - Opaque handles (`ds_mesh`, `ds_options`, `ds_localizer`, `ds_result`) created by
+//!   `*_create`/`ds_localize` and released by `*_destroy` (which accept NULL).
 //! - Arrays are passed as a pointer plus an explicit element count; a pointer may be NULL only
-//!   when its count is 0. Indices are 0-based `uint32_t`.
+//!   when its count is 0. Indices are 0-based `uint32_t`. Strings are NUL-terminated UTF-8.
 //! - Every fallible function returns a `ds_status`; on failure `ds_last_error_message()` (per
 //!   thread) says why. Out-parameters are written only on success.
 //! - No Rust panic crosses the boundary: every body runs under `std::panic::catch_unwind`, a
 //!   panic becomes `DS_PANIC`. NULL pointers, misaligned pointers, wrong lengths and
 //!   out-of-range indices are reported as `DS_INVALID_ARGUMENT` / `DS_INVALID_MESH`.
+//! - Options are a key/value handle whose names, ranges and docs are the core's table
+//!   (`ds_options_schema_json()`), so a new core option needs no change here.
+//! - A mesh made from a host's arrays (`ds_mesh_create_from_host`) goes through the core's
+//!   intake: every per-vertex array in or out is in the host's numbering.
 //!
 //! This file is conversion only: every computation is a call into the `dualspectra` crate.
 
 #![allow(non_camel_case_types)]
 
-use crate::{metric_from_code, status_of, ShapeCache};
-use dualspectra::{Error, Localization, Options, Progress, TriMesh};
+use crate::{metric_from_code, status_of, HostLocalizer, HostMesh};
+use dualspectra::{Error, Localization, Options, Progress};
 use std::cell::RefCell;
 use std::ffi::{c_char, c_int, c_void, CStr, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
-use std::sync::Mutex;
+use std::sync::{Mutex, OnceLock};
 
 /// Status code returned by every fallible entry point (`DS_OK` = 0 on success).
 pub type ds_status = i32;
 /// Success.
 pub const DS_OK: ds_status = 0;
-/// A NULL/misaligned pointer, a wrong array length, an unknown enum value or an option out of range.
+/// A NULL/misaligned pointer, a wrong array length, an unknown metric, an unknown option or a
+/// value out of its range (the message names the option and its range).
 pub const DS_INVALID_ARGUMENT: ds_status = 1;
-/// The mesh arrays do not describe a valid triangle mesh (index out of range, degenerate or
-/// non-manifold face, isolated vertex, non-finite coordinate, ...).
+/// The mesh arrays do not describe a valid triangle mesh (index out of range, non-manifold edge
+/// or vertex, non-finite coordinate; for `ds_mesh_create` also a degenerate face or a vertex in
+/// no face).
 pub const DS_INVALID_MESH: ds_status = 2;
 /// A numerical method failed (eigensolver, factorization, optimiser).
 pub const DS_NUMERICAL: ds_status = 3;
@@ -40,39 +46,6 @@ pub const DS_PANIC: ds_status = 5;
 /// A file could not be read or parsed.
 pub const DS_IO: ds_status = 6;
 
-/// Which spectra `ds_localize` matches (`ds_options.mode`).
-pub type ds_mode = u32;
-/// k regular + k scale-invariant eigenvalues (the paper's method; the default).
-pub const DS_MODE_DUAL: ds_mode = 0;
-/// 2k regular (Laplace-Beltrami) eigenvalues only.
-pub const DS_MODE_LBO: ds_mode = 1;
-/// 2k scale-invariant eigenvalues only.
-pub const DS_MODE_SI: ds_mode = 2;
-
-/// How `ds_localize` chooses among its optimised starts (`ds_options.selection`).
-pub type ds_selection = u32;
-/// SHOT descriptors projected on the first eigenfunctions (the paper's rule).
-pub const DS_SELECTION_DESCRIPTORS: ds_selection = 0;
-/// The lowest final alignment cost.
-pub const DS_SELECTION_COST: ds_selection = 1;
-/// The lowest alignment cost of the candidate's extracted region as a step potential.
-pub const DS_SELECTION_REGION: ds_selection = 2;
-/// The lowest descriptor score among the candidates whose region cost is at most 3x the
-/// lowest (the default).
-pub const DS_SELECTION_GATED: ds_selection = 3;
-
-/// The starting potentials around each farthest-point centre (`ds_options.start_shape`).
-pub type ds_start_shape = u32;
-/// A well on the ball with the partial's area, one on everything but a ball with the rest of
-/// the area, and a wide Gaussian bump: 3 starts per centre (the default).
-pub const DS_STARTS_BALLS_AND_WIDE_BUMPS: ds_start_shape = 0;
-/// The two balls, and the wide Gaussian well and bump: 4 starts per centre.
-pub const DS_STARTS_BALLS_AND_WIDE_GAUSSIANS: ds_start_shape = 1;
-/// The reference's Gaussians, two widths, both signs: 4 starts per centre.
-pub const DS_STARTS_GAUSSIAN: ds_start_shape = 2;
-/// The two balls only: 2 starts per centre.
-pub const DS_STARTS_AREA_BALL: ds_start_shape = 3;
-
 /// Which metric a spectrum is computed in.
 pub type ds_metric = u32;
 /// The surface's own metric (Laplace-Beltrami spectrum).
@@ -80,69 +53,61 @@ pub const DS_METRIC_REGULAR: ds_metric = 0;
 /// The scale-invariant metric `s g` with `s = (eps + K^2)^(alpha/2)`.
 pub const DS_METRIC_SCALE_INVARIANT: ds_metric = 1;
 
-/// A validated triangle mesh (immutable; may be shared between threads for reading).
+/// A validated triangle mesh (immutable; may be shared between threads for reading). Made by
+/// `ds_mesh_create` (strict) or `ds_mesh_create_from_host` (through the core's intake, with
+/// the map back to the host's vertex numbering).
 pub struct ds_mesh {
-    pub(crate) shape: ShapeCache,
+    pub(crate) mesh: HostMesh,
+    /// What the intake left out, as a sentence (`None`: nothing).
+    pub(crate) warning: Option<CString>,
 }
 
-/// The result of `ds_localize` (immutable).
+/// Options of the localizer, by name (`ds_options_set`); `ds_options_schema_json()` lists the
+/// names, types, ranges, defaults and docs.
+pub struct ds_options {
+    pub(crate) options: Options,
+    /// `options` as a JSON object (`ds_options_json`), kept up to date by every setter.
+    pub(crate) json: CString,
+}
+
+/// A full mesh prepared for locating partials on it (immutable; `ds_localizer_locate` may be
+/// called from several threads at once on one localizer).
+pub struct ds_localizer {
+    pub(crate) inner: HostLocalizer,
+    pub(crate) warnings: Vec<CString>,
+    pub(crate) options_json: CString,
+}
+
+/// The result of `ds_localize` or `ds_localizer_locate` (immutable).
 pub struct ds_result {
     pub(crate) loc: Localization,
     /// `loc.warnings` as C strings, owned by the result.
     pub(crate) warnings: Vec<CString>,
 }
 
-/// Parameters of `ds_localize`. Start from `ds_options_default()` and change fields.
-#[repr(C)]
-#[derive(Debug, Clone, Copy)]
-pub struct ds_options {
-    /// One of `DS_MODE_DUAL`, `DS_MODE_LBO`, `DS_MODE_SI`.
-    pub mode: ds_mode,
-    /// Eigenvalues per spectrum (`dual` uses k + k, `lbo`/`si` use 2k); at least 1.
-    pub k: usize,
-    /// Exponent of the scale-invariant factor (paper default 0.33).
-    pub alpha: f64,
-    /// Seed of every random choice: results are deterministic for a given seed.
-    pub seed: u64,
-    /// Vertices of the decimated full shape the potential is optimised on (0: no decimation).
-    pub resolution: usize,
-    /// Farthest-point centres of the starts (each gives 3 starts; the plane cuts come on top).
-    pub centers: usize,
-    /// Trust-region iterations per start (at least 1).
-    pub max_iterations: usize,
-    /// Worker threads (0: all cores).
-    pub threads: usize,
-    /// One of `DS_SELECTION_DESCRIPTORS`, `DS_SELECTION_COST`, `DS_SELECTION_REGION`, `DS_SELECTION_GATED`.
-    pub selection: ds_selection,
-    /// One of `DS_STARTS_BALLS_AND_WIDE_BUMPS`, `DS_STARTS_BALLS_AND_WIDE_GAUSSIANS`,
-    /// `DS_STARTS_GAUSSIAN`, `DS_STARTS_AREA_BALL`.
-    pub start_shape: ds_start_shape,
-    /// Further starts from the full shape's first `spectral_cuts` eigenfunctions, two each (the
-    /// region on either side of a level set, with the partial's area); 0: none (the default).
-    pub spectral_cuts: usize,
-    /// Further starts, one per direction: the side of a plane with the partial's area, normal to
-    /// the first `plane_cuts` of 26 directions (6, the default: both ways along the full shape's
-    /// principal axes; 14: and the diagonals; 26: and the face diagonals); at most 26.
-    pub plane_cuts: usize,
-}
-
-/// Wall-clock seconds per stage of `ds_localize`.
+/// Wall-clock seconds per stage.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default)]
 pub struct ds_timings {
+    /// Preparing the full mesh (0 for a result of `ds_localizer_locate`: see
+    /// `ds_localizer_preparation_seconds`).
+    pub preparation: f64,
+    /// The partial's spectra and descriptors.
     pub preprocessing: f64,
     pub starts: f64,
     pub optimisation: f64,
-    pub selection: f64,
+    /// Each candidate's region on the full mesh.
     pub region: f64,
+    /// Scoring the candidates and choosing one.
+    pub selection: f64,
     pub total: f64,
 }
 
 /// Progress callback: `fraction` in [0, 1] of the whole computation, `stage` a short
-/// NUL-terminated name valid only during the call, `user` the pointer given to `ds_localize`.
-/// Return non-zero to continue, 0 to cancel (`ds_localize` then returns `DS_CANCELLED`).
-/// Calls are serialized (never concurrent) but may come from a worker thread. The callback
-/// must not unwind (no C++ exception, no longjmp) out of itself.
+/// NUL-terminated name valid only during the call, `user` the pointer given with it.
+/// Return non-zero to continue, 0 to cancel (the call then returns `DS_CANCELLED`).
+/// The calls of one computation are serialized (never concurrent) but may come from a worker
+/// thread. The callback must not unwind (no C++ exception, no longjmp) out of itself.
 pub type ds_progress_fn =
     Option<unsafe extern "C" fn(fraction: f64, stage: *const c_char, user: *mut c_void) -> c_int>;
 
@@ -207,7 +172,7 @@ unsafe fn slice_in<'a, T>(ptr: *const T, len: usize, what: &str) -> Result<&'a [
     if ptr.is_null() {
         return Err(invalid(format!("{what} is NULL but its length is {len}")));
     }
-    if (ptr as usize) % std::mem::align_of::<T>() != 0 {
+    if !(ptr as usize).is_multiple_of(std::mem::align_of::<T>()) {
         return Err(invalid(format!("{what} is not aligned to {} bytes", std::mem::align_of::<T>())));
     }
     if len > isize::MAX as usize / std::mem::size_of::<T>().max(1) {
@@ -238,7 +203,7 @@ unsafe fn handle<'a, T>(ptr: *const T, what: &str) -> Result<&'a T, Error> {
     if ptr.is_null() {
         return Err(invalid(format!("{what} is NULL")));
     }
-    if (ptr as usize) % std::mem::align_of::<T>() != 0 {
+    if !(ptr as usize).is_multiple_of(std::mem::align_of::<T>()) {
         return Err(invalid(format!("{what} is not a valid handle (misaligned)")));
     }
     // SAFETY: caller's contract.
@@ -253,7 +218,7 @@ unsafe fn write_out<T>(ptr: *mut T, value: T, what: &str) -> Result<(), Error> {
     if ptr.is_null() {
         return Err(invalid(format!("{what} is NULL")));
     }
-    if (ptr as usize) % std::mem::align_of::<T>() != 0 {
+    if !(ptr as usize).is_multiple_of(std::mem::align_of::<T>()) {
         return Err(invalid(format!("{what} is not aligned to {} bytes", std::mem::align_of::<T>())));
     }
     // SAFETY: caller's contract; `write` does not drop the (possibly uninitialised) old value.
@@ -307,12 +272,64 @@ pub extern "C" fn ds_status_name(status: ds_status) -> *const c_char {
     .as_ptr()
 }
 
+/// Borrow a NUL-terminated UTF-8 string, checking NULL.
+///
+/// # Safety
+/// A non-NULL `ptr` must point to a NUL-terminated string valid for the returned lifetime.
+unsafe fn str_in<'a>(ptr: *const c_char, what: &str) -> Result<&'a str, Error> {
+    if ptr.is_null() {
+        return Err(invalid(format!("{what} is NULL")));
+    }
+    // SAFETY: caller's contract.
+    unsafe { CStr::from_ptr(ptr) }.to_str().map_err(|_| invalid(format!("{what} is not valid UTF-8")))
+}
+
+fn c_string(text: &str) -> CString {
+    CString::new(text.replace('\0', " ")).unwrap_or_default()
+}
+
+/// Write a new handle to `out`, or drop it if `out` cannot take it.
+///
+/// # Safety
+/// As [`write_out`].
+unsafe fn write_handle<T>(out: *mut *mut T, value: T) -> Result<(), Error> {
+    let h = Box::into_raw(Box::new(value));
+    // SAFETY: caller's contract.
+    let written = unsafe { write_out(out, h, "out") };
+    if written.is_err() {
+        // SAFETY: `h` was just made by `Box::into_raw` and given to no one.
+        drop(unsafe { Box::from_raw(h) });
+    }
+    written
+}
+
+/// Release a handle made by [`write_handle`] (NULL is ignored).
+///
+/// # Safety
+/// `ptr` must be NULL or a handle of type `T` from this library, not yet destroyed.
+unsafe fn destroy<T>(ptr: *mut T) {
+    if !ptr.is_null() {
+        // SAFETY: caller's contract.
+        let _ = catch_unwind(AssertUnwindSafe(|| drop(unsafe { Box::from_raw(ptr) })));
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Meshes
 
+/// Borrow the flat arrays of a mesh.
+///
+/// # Safety
+/// As `ds_mesh_create`.
+unsafe fn mesh_arrays<'a>(xyz: *const f64, n_vertices: usize, tri: *const u32, n_faces: usize) -> Result<(&'a [f64], &'a [u32]), Error> {
+    let v = unsafe { slice_in(xyz, checked_mul3(n_vertices, "n_vertices")?, "xyz")? };
+    let f = unsafe { slice_in(tri, checked_mul3(n_faces, "n_faces")?, "tri")? };
+    Ok((v, f))
+}
+
 /// Create a mesh from `n_vertices` positions `xyz[3*i .. 3*i+3]` and `n_faces` triangles
-/// `tri[3*f .. 3*f+3]` (0-based vertex indices). The arrays are copied. On success `*out`
-/// receives a handle to release with `ds_mesh_destroy`.
+/// `tri[3*f .. 3*f+3]` (0-based vertex indices), checked strictly. The arrays are copied. On
+/// success `*out` receives a handle to release with `ds_mesh_destroy`.
 ///
 /// Errors: `DS_INVALID_ARGUMENT` (NULL/misaligned pointers, overflowing counts),
 /// `DS_INVALID_MESH` (index out of range, repeated/degenerate face, non-manifold edge or
@@ -333,54 +350,41 @@ pub unsafe extern "C" fn ds_mesh_create(
         if out.is_null() {
             return Err(invalid("out is NULL"));
         }
-        let v = unsafe { slice_in(xyz, checked_mul3(n_vertices, "n_vertices")?, "xyz")? };
-        let f = unsafe { slice_in(tri, checked_mul3(n_faces, "n_faces")?, "tri")? };
-        let mesh = TriMesh::from_flat(v, f)?;
-        let h = Box::into_raw(Box::new(ds_mesh { shape: ShapeCache::new(mesh) }));
-        unsafe { write_out(out, h, "out") }
+        let (v, f) = unsafe { mesh_arrays(xyz, n_vertices, tri, n_faces)? };
+        let mesh = HostMesh::strict(v, f)?;
+        unsafe { write_handle(out, ds_mesh { mesh, warning: None }) }
     })
 }
 
-/// As `ds_mesh_create`, but vertices referenced by no face are dropped instead of rejected
-/// (e.g. unreferenced or deleted vertices of an editor's mesh). If `kept` is not NULL it
-/// receives, for each vertex of the new mesh, its index in the input
-/// (`kept[new] = old`); it must have room for `kept_capacity >= n_vertices` entries.
-/// `*n_kept` (if not NULL) receives the number of vertices of the new mesh.
+/// Create a mesh from a host's arrays (an editor's mesh, a file) through the core's intake:
+/// faces that repeat a vertex or have zero area, then vertices in no face, are left out, and
+/// the mesh remembers the map back to the host's vertices. Every per-vertex array in or out
+/// (`ds_gaussian_curvature`, `ds_result_region`, ...) is then in the host's numbering, of
+/// length `ds_mesh_n_vertices` = `n_vertices`; left-out vertices get 0. What was left out is
+/// said by `ds_mesh_warning` and among the warnings of every result computed with the mesh.
+///
+/// Errors: as `ds_mesh_create`, without the degenerate-face and vertex-in-no-face cases
+/// (`DS_INVALID_MESH` when every face is degenerate). Vertex and face numbers in the messages
+/// are the host's.
 ///
 /// # Safety
-/// As `ds_mesh_create`; `kept` valid for `kept_capacity` writes, `n_kept` for one.
+/// As `ds_mesh_create`.
 #[no_mangle]
-pub unsafe extern "C" fn ds_mesh_create_dropping_isolated(
+pub unsafe extern "C" fn ds_mesh_create_from_host(
     xyz: *const f64,
     n_vertices: usize,
     tri: *const u32,
     n_faces: usize,
-    kept: *mut u32,
-    kept_capacity: usize,
-    n_kept: *mut usize,
     out: *mut *mut ds_mesh,
 ) -> ds_status {
     guard(|| {
         if out.is_null() {
             return Err(invalid("out is NULL"));
         }
-        if !kept.is_null() && kept_capacity < n_vertices {
-            return Err(invalid(format!("kept_capacity {kept_capacity} < n_vertices {n_vertices}")));
-        }
-        let v = unsafe { slice_in(xyz, checked_mul3(n_vertices, "n_vertices")?, "xyz")? };
-        let f = unsafe { slice_in(tri, checked_mul3(n_faces, "n_faces")?, "tri")? };
-        let verts = v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
-        let faces = f.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
-        let (mesh, kept_idx) = TriMesh::new_dropping_isolated(verts, faces)?;
-        if !kept.is_null() {
-            let dst = unsafe { slice_out(kept, kept_idx.len(), "kept")? };
-            dst.copy_from_slice(&kept_idx);
-        }
-        if !n_kept.is_null() {
-            unsafe { write_out(n_kept, kept_idx.len(), "n_kept")? };
-        }
-        let h = Box::into_raw(Box::new(ds_mesh { shape: ShapeCache::new(mesh) }));
-        unsafe { write_out(out, h, "out") }
+        let (v, f) = unsafe { mesh_arrays(xyz, n_vertices, tri, n_faces)? };
+        let mesh = HostMesh::from_host(v, f)?;
+        let warning = mesh.host_map().warning("mesh").map(|w| c_string(&w));
+        unsafe { write_handle(out, ds_mesh { mesh, warning }) }
     })
 }
 
@@ -390,27 +394,66 @@ pub unsafe extern "C" fn ds_mesh_create_dropping_isolated(
 /// `mesh` must be NULL or a handle from `ds_mesh_create*` not yet destroyed.
 #[no_mangle]
 pub unsafe extern "C" fn ds_mesh_destroy(mesh: *mut ds_mesh) {
-    if !mesh.is_null() {
-        let _ = catch_unwind(AssertUnwindSafe(|| drop(unsafe { Box::from_raw(mesh) })));
-    }
+    unsafe { destroy(mesh) }
 }
 
-/// Number of vertices (0 for NULL).
+/// Number of vertices in the host's numbering: the length of every per-vertex array of the
+/// mesh (the given `n_vertices`; 0 for NULL).
 ///
 /// # Safety
 /// `mesh` must be NULL or a live handle.
 #[no_mangle]
 pub unsafe extern "C" fn ds_mesh_n_vertices(mesh: *const ds_mesh) -> usize {
-    guard_value(0, || unsafe { handle(mesh, "mesh") }.map(|m| m.shape.mesh().n_vertices()).unwrap_or(0))
+    guard_value(0, || unsafe { handle(mesh, "mesh") }.map(|m| m.mesh.n_vertices()).unwrap_or(0))
 }
 
-/// Number of faces (0 for NULL).
+/// Number of faces used (the given ones, less those the intake left out; 0 for NULL).
 ///
 /// # Safety
 /// `mesh` must be NULL or a live handle.
 #[no_mangle]
 pub unsafe extern "C" fn ds_mesh_n_faces(mesh: *const ds_mesh) -> usize {
-    guard_value(0, || unsafe { handle(mesh, "mesh") }.map(|m| m.shape.mesh().n_faces()).unwrap_or(0))
+    guard_value(0, || unsafe { handle(mesh, "mesh") }.map(|m| m.mesh.mesh().n_faces()).unwrap_or(0))
+}
+
+/// Number of vertices used (those of some used face; 0 for NULL).
+///
+/// # Safety
+/// `mesh` must be NULL or a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn ds_mesh_n_used_vertices(mesh: *const ds_mesh) -> usize {
+    guard_value(0, || unsafe { handle(mesh, "mesh") }.map(|m| m.mesh.mesh().n_vertices()).unwrap_or(0))
+}
+
+/// The host index of each used vertex, increasing (`out_len == ds_mesh_n_used_vertices`).
+///
+/// # Safety
+/// `mesh` a live handle; `out` valid for `out_len` writes.
+#[no_mangle]
+pub unsafe extern "C" fn ds_mesh_used_vertices(mesh: *const ds_mesh, out: *mut u32, out_len: usize) -> ds_status {
+    guard(|| {
+        let m = unsafe { handle(mesh, "mesh")? };
+        let used = m.mesh.used_vertices();
+        if out_len != used.len() {
+            return Err(invalid(format!("out_len is {out_len}, the mesh uses {} vertices", used.len())));
+        }
+        unsafe { slice_out(out, out_len, "out")? }.copy_from_slice(&used);
+        Ok(())
+    })
+}
+
+/// What the intake left out of a mesh from `ds_mesh_create_from_host`, as a sentence owned by
+/// the mesh (valid until `ds_mesh_destroy`); NULL if nothing was (always for `ds_mesh_create`)
+/// or for a NULL mesh.
+///
+/// # Safety
+/// `mesh` must be NULL or a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn ds_mesh_warning(mesh: *const ds_mesh) -> *const c_char {
+    guard_value(std::ptr::null(), || match unsafe { handle(mesh, "mesh") } {
+        Ok(m) => m.warning.as_ref().map_or(std::ptr::null(), |w| w.as_ptr()),
+        Err(_) => std::ptr::null(),
+    })
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -418,7 +461,8 @@ pub unsafe extern "C" fn ds_mesh_n_faces(mesh: *const ds_mesh) -> usize {
 
 /// Pointwise Gaussian curvature per vertex (angle defect over barycentric area; with
 /// `smoothed != 0`, then averaged over each vertex's one-ring, as the scale-invariant metric
-/// uses). `out` must hold `out_len == ds_mesh_n_vertices(mesh)` doubles.
+/// uses). `out` must hold `out_len == ds_mesh_n_vertices(mesh)` doubles (host numbering; 0 at
+/// vertices the intake left out).
 ///
 /// # Safety
 /// `mesh` a live handle; `out` valid for `out_len` writes.
@@ -426,13 +470,12 @@ pub unsafe extern "C" fn ds_mesh_n_faces(mesh: *const ds_mesh) -> usize {
 pub unsafe extern "C" fn ds_gaussian_curvature(mesh: *const ds_mesh, smoothed: c_int, out: *mut f64, out_len: usize) -> ds_status {
     guard(|| {
         let m = unsafe { handle(mesh, "mesh")? };
-        let n = m.shape.mesh().n_vertices();
+        let n = m.mesh.n_vertices();
         if out_len != n {
             return Err(invalid(format!("out_len is {out_len}, the mesh has {n} vertices")));
         }
         let dst = unsafe { slice_out(out, out_len, "out")? };
-        let k = crate::gaussian_curvature(&m.shape, smoothed != 0);
-        dst.copy_from_slice(&k);
+        dst.copy_from_slice(&crate::gaussian_curvature(&m.mesh, smoothed != 0));
         Ok(())
     })
 }
@@ -460,7 +503,7 @@ pub unsafe extern "C" fn ds_spectrum(
             return Err(invalid(format!("out_len is {out_len}, expected k = {k}")));
         }
         let dst = unsafe { slice_out(out, out_len, "out")? };
-        let values = crate::spectrum(&m.shape, k, metric, alpha)?;
+        let values = crate::spectrum(&m.mesh, k, metric, alpha)?;
         if values.len() != k {
             return Err(Error::Numerical(format!("eigensolver returned {} eigenvalues, expected {k}", values.len())));
         }
@@ -470,48 +513,284 @@ pub unsafe extern "C" fn ds_spectrum(
 }
 
 // ---------------------------------------------------------------------------------------------
-// Localization
+// Options
 
-/// The paper's default parameters.
+/// Every option as a JSON array, in the order front ends list them:
+/// `[{"name", "label", "type": "int"|"float"|"choice", "min", "max" | "choices", "default",
+/// "doc"}, ...]`. A static string (never NULL), for building parameter lists (GUI, flags).
 #[no_mangle]
-pub extern "C" fn ds_options_default() -> ds_options {
-    // `Options::default()` cannot panic; the fallback only satisfies the panic guard.
-    guard_value(
-        ds_options {
-            mode: DS_MODE_DUAL,
-            k: 20,
-            alpha: 0.33,
-            seed: 0,
-            resolution: 0,
-            centers: 1,
-            max_iterations: 1,
-            threads: 0,
-            selection: DS_SELECTION_DESCRIPTORS,
-            start_shape: DS_STARTS_BALLS_AND_WIDE_BUMPS,
-            spectral_cuts: 0,
-            plane_cuts: 0,
-        },
-        || crate::options_to_c(&Options::default()),
-    )
+pub extern "C" fn ds_options_schema_json() -> *const c_char {
+    static SCHEMA: OnceLock<CString> = OnceLock::new();
+    guard_value(c"[]".as_ptr(), || SCHEMA.get_or_init(|| c_string(&dualspectra::localizer::options_schema_json())).as_ptr())
 }
+
+/// Create options holding the defaults. On success `*out` receives a handle to release with
+/// `ds_options_destroy`.
+///
+/// # Safety
+/// `out` must be valid for writing one pointer.
+#[no_mangle]
+pub unsafe extern "C" fn ds_options_create(out: *mut *mut ds_options) -> ds_status {
+    guard(|| {
+        let options = Options::default();
+        let json = c_string(&options.to_json());
+        unsafe { write_handle(out, ds_options { options, json }) }
+    })
+}
+
+/// Release options (NULL is ignored).
+///
+/// # Safety
+/// `options` must be NULL or a handle from `ds_options_create` not yet destroyed.
+#[no_mangle]
+pub unsafe extern "C" fn ds_options_destroy(options: *mut ds_options) {
+    unsafe { destroy(options) }
+}
+
+/// Borrow a handle mutably, checking NULL and alignment.
+///
+/// # Safety
+/// A non-NULL `ptr` must come from this library, not be destroyed and not be in use elsewhere.
+unsafe fn handle_mut<'a, T>(ptr: *mut T, what: &str) -> Result<&'a mut T, Error> {
+    unsafe { handle(ptr as *const T, what)? };
+    // SAFETY: checked above; exclusivity is the caller's contract.
+    Ok(unsafe { &mut *ptr })
+}
+
+/// Set the option `name` from text: `"20"`, `"0.5"`, `"lbo"` (names and ranges:
+/// `ds_options_schema_json`). A value out of range, of the wrong type, or an unknown name is
+/// `DS_INVALID_ARGUMENT` with a message naming the option and its range; the options are then
+/// unchanged.
+///
+/// # Safety
+/// `options` a live handle not used by another thread during the call; `name` and `value`
+/// NUL-terminated strings.
+#[no_mangle]
+pub unsafe extern "C" fn ds_options_set(options: *mut ds_options, name: *const c_char, value: *const c_char) -> ds_status {
+    guard(|| {
+        let o = unsafe { handle_mut(options, "options")? };
+        let name = unsafe { str_in(name, "name")? };
+        let value = unsafe { str_in(value, "value")? };
+        crate::set_option(&mut o.options, name, serde_json::Value::String(value.to_owned()))?;
+        o.json = c_string(&o.options.to_json());
+        Ok(())
+    })
+}
+
+/// Set the options of a JSON object, e.g. `{"k": 10, "mode": "lbo"}` (numbers as numbers or
+/// text), on top of the current ones: all or none (on error the options are unchanged and the
+/// message names the offending option).
+///
+/// # Safety
+/// As `ds_options_set`; `json_object` a NUL-terminated string.
+#[no_mangle]
+pub unsafe extern "C" fn ds_options_set_json(options: *mut ds_options, json_object: *const c_char) -> ds_status {
+    guard(|| {
+        let o = unsafe { handle_mut(options, "options")? };
+        crate::set_json(&mut o.options, unsafe { str_in(json_object, "json_object")? })?;
+        o.json = c_string(&o.options.to_json());
+        Ok(())
+    })
+}
+
+/// Every option's value as a JSON object (`{"mode":"dual","k":20,...}`), owned by the handle:
+/// valid until the next `ds_options_set*` or `ds_options_destroy` on it. NULL for NULL.
+///
+/// # Safety
+/// `options` must be NULL or a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn ds_options_json(options: *const ds_options) -> *const c_char {
+    guard_value(std::ptr::null(), || unsafe { handle(options, "options") }.map_or(std::ptr::null(), |o| o.json.as_ptr()))
+}
+
+// ---------------------------------------------------------------------------------------------
+// Localization
 
 struct CallbackData {
     f: unsafe extern "C" fn(f64, *const c_char, *mut c_void) -> c_int,
     user: *mut c_void,
 }
-// SAFETY: the C caller hands us `user` for use during `ds_localize`, which does not return
-// before the computation ends; the Mutex below serializes the calls.
+// SAFETY: the C caller hands us `user` for use during the call it is given to, which does not
+// return before the computation ends; the Mutex below serializes the calls.
 unsafe impl Send for CallbackData {}
 
-/// Find the region of `full` that `partial` corresponds to. `options` may be NULL (defaults);
-/// `progress` may be NULL. On success `*out` receives a result to release with
-/// `ds_result_destroy`.
-///
-/// Errors: `DS_INVALID_ARGUMENT` (NULL meshes/out, unknown mode, k = 0, non-finite alpha),
-/// `DS_NUMERICAL`, `DS_CANCELLED` (the callback returned 0).
+/// The core's progress handle calling a C callback (none for NULL).
+fn progress_of(progress: ds_progress_fn, user: *mut c_void) -> Progress {
+    match progress {
+        None => Progress::none(),
+        Some(f) => {
+            let data = Mutex::new(CallbackData { f, user });
+            Progress::new(move |fraction, stage| {
+                let stage = c_string(stage);
+                let guard = data.lock().unwrap_or_else(|p| p.into_inner());
+                // SAFETY: the caller promised `f` is callable with its own `user`.
+                unsafe { (guard.f)(fraction, stage.as_ptr(), guard.user) != 0 }
+            })
+        }
+    }
+}
+
+/// The options of a possibly NULL handle (NULL: the defaults).
 ///
 /// # Safety
-/// `full`, `partial` live handles; `options` NULL or valid; `out` valid for one write;
+/// `options` must be NULL or a live handle.
+unsafe fn options_in(options: *const ds_options) -> Result<Options, Error> {
+    if options.is_null() {
+        Ok(Options::default())
+    } else {
+        Ok(unsafe { handle(options, "options")? }.options.clone())
+    }
+}
+
+fn result_handle(loc: Localization) -> ds_result {
+    let warnings = loc.warnings.iter().map(|w| c_string(w)).collect();
+    ds_result { loc, warnings }
+}
+
+/// Prepare `full` for locating partials on it: its scale, optimisation mesh, descriptors and
+/// start positions, computed once. `options` may be NULL (defaults); the options are checked
+/// here and copied. `progress` may be NULL. On success `*out` receives a handle to release
+/// with `ds_localizer_destroy`; the mesh handle may be destroyed after this call.
+///
+/// Errors: `DS_INVALID_ARGUMENT` (NULL mesh/out, options out of range), `DS_NUMERICAL`,
+/// `DS_CANCELLED` (the callback returned 0).
+///
+/// # Safety
+/// `full` a live handle; `options` NULL or a live handle; `out` valid for one write;
+/// `progress` NULL or a function callable as described for `ds_progress_fn`.
+#[no_mangle]
+pub unsafe extern "C" fn ds_localizer_create(
+    full: *const ds_mesh,
+    options: *const ds_options,
+    progress: ds_progress_fn,
+    user: *mut c_void,
+    out: *mut *mut ds_localizer,
+) -> ds_status {
+    guard(|| {
+        if out.is_null() {
+            return Err(invalid("out is NULL"));
+        }
+        let full = unsafe { handle(full, "full")? };
+        let options = unsafe { options_in(options)? };
+        let inner = HostLocalizer::new(&full.mesh, &options, &progress_of(progress, user))?;
+        let warnings = inner.warnings().iter().map(|w| c_string(w)).collect();
+        let options_json = c_string(&options.to_json());
+        unsafe { write_handle(out, ds_localizer { inner, warnings, options_json }) }
+    })
+}
+
+/// Find the region of the prepared full mesh that `partial` is. May be called from several
+/// threads at once on one localizer (each call with its own callback and result). On success
+/// `*out` receives a result to release with `ds_result_destroy`; its per-vertex arrays are in
+/// the host's numbering of the full mesh.
+///
+/// Errors: `DS_INVALID_ARGUMENT` (NULL handles/out; a partial without boundary or larger than
+/// the full mesh), `DS_NUMERICAL`, `DS_CANCELLED`.
+///
+/// # Safety
+/// `localizer`, `partial` live handles; `out` valid for one write; `progress` as for
+/// `ds_localizer_create`.
+#[no_mangle]
+pub unsafe extern "C" fn ds_localizer_locate(
+    localizer: *const ds_localizer,
+    partial: *const ds_mesh,
+    progress: ds_progress_fn,
+    user: *mut c_void,
+    out: *mut *mut ds_result,
+) -> ds_status {
+    guard(|| {
+        if out.is_null() {
+            return Err(invalid("out is NULL"));
+        }
+        let localizer = unsafe { handle(localizer, "localizer")? };
+        let partial = unsafe { handle(partial, "partial")? };
+        let loc = localizer.inner.locate(&partial.mesh, &progress_of(progress, user))?;
+        unsafe { write_handle(out, result_handle(loc)) }
+    })
+}
+
+/// Release a localizer (NULL is ignored). No `ds_localizer_locate` on it may be running.
+///
+/// # Safety
+/// `localizer` must be NULL or a handle from `ds_localizer_create` not yet destroyed.
+#[no_mangle]
+pub unsafe extern "C" fn ds_localizer_destroy(localizer: *mut ds_localizer) {
+    unsafe { destroy(localizer) }
+}
+
+/// Vertices of the full mesh in the host's numbering: the length of every result's per-vertex
+/// arrays (0 for NULL).
+///
+/// # Safety
+/// `localizer` must be NULL or a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn ds_localizer_n_vertices(localizer: *const ds_localizer) -> usize {
+    guard_value(0, || unsafe { handle(localizer, "localizer") }.map(|l| l.inner.n_vertices()).unwrap_or(0))
+}
+
+/// Vertices of the optimisation mesh (the full mesh decimated to about the `resolution`
+/// option; 0 for NULL).
+///
+/// # Safety
+/// `localizer` must be NULL or a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn ds_localizer_optimisation_vertices(localizer: *const ds_localizer) -> usize {
+    guard_value(0, || unsafe { handle(localizer, "localizer") }.map(|l| l.inner.localizer().optimisation_vertices()).unwrap_or(0))
+}
+
+/// Seconds `ds_localizer_create` took.
+///
+/// # Safety
+/// `localizer` a live handle; `out` valid for one write.
+#[no_mangle]
+pub unsafe extern "C" fn ds_localizer_preparation_seconds(localizer: *const ds_localizer, out: *mut f64) -> ds_status {
+    guard(|| unsafe { write_out(out, handle(localizer, "localizer")?.inner.localizer().preparation_seconds(), "out") })
+}
+
+/// The options the localizer was prepared with, as a JSON object owned by the localizer
+/// (valid until `ds_localizer_destroy`); NULL for NULL.
+///
+/// # Safety
+/// `localizer` must be NULL or a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn ds_localizer_options_json(localizer: *const ds_localizer) -> *const c_char {
+    guard_value(std::ptr::null(), || {
+        unsafe { handle(localizer, "localizer") }.map_or(std::ptr::null(), |l| l.options_json.as_ptr())
+    })
+}
+
+/// Number of notes on the preparation (what the intake left out of the full mesh, a
+/// decimation that failed, ...); they are repeated in every result. 0 for NULL.
+///
+/// # Safety
+/// `localizer` must be NULL or a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn ds_localizer_n_warnings(localizer: *const ds_localizer) -> usize {
+    guard_value(0, || unsafe { handle(localizer, "localizer") }.map(|l| l.warnings.len()).unwrap_or(0))
+}
+
+/// Note `index` (< `ds_localizer_n_warnings`), owned by the localizer (valid until
+/// `ds_localizer_destroy`); NULL for a NULL localizer or an index out of range.
+///
+/// # Safety
+/// `localizer` must be NULL or a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn ds_localizer_warning(localizer: *const ds_localizer, index: usize) -> *const c_char {
+    guard_value(std::ptr::null(), || match unsafe { handle(localizer, "localizer") } {
+        Ok(l) => l.warnings.get(index).map_or(std::ptr::null(), |w| w.as_ptr()),
+        Err(_) => std::ptr::null(),
+    })
+}
+
+/// Find the region of `full` that `partial` corresponds to, in one call (prepare, then locate;
+/// to locate several partials on one full mesh, prepare it once with `ds_localizer_create`).
+/// `options` may be NULL (defaults); `progress` may be NULL. On success `*out` receives a
+/// result to release with `ds_result_destroy`.
+///
+/// Errors: as `ds_localizer_create` and `ds_localizer_locate`.
+///
+/// # Safety
+/// `full`, `partial` live handles; `options` NULL or a live handle; `out` valid for one write;
 /// `progress` NULL or a function callable as described for `ds_progress_fn`.
 #[no_mangle]
 pub unsafe extern "C" fn ds_localize(
@@ -528,38 +807,23 @@ pub unsafe extern "C" fn ds_localize(
         }
         let full = unsafe { handle(full, "full")? };
         let partial = unsafe { handle(partial, "partial")? };
-        let opts = if options.is_null() { Options::default() } else { crate::options_from_c(unsafe { handle(options, "options")? })? };
-        let prog = match progress {
-            None => Progress::none(),
-            Some(f) => {
-                let data = Mutex::new(CallbackData { f, user });
-                Progress::new(move |fraction, stage| {
-                    let stage = CString::new(stage.replace('\0', " ")).unwrap_or_default();
-                    let guard = data.lock().unwrap_or_else(|p| p.into_inner());
-                    // SAFETY: the caller promised `f` is callable with its own `user`.
-                    unsafe { (guard.f)(fraction, stage.as_ptr(), guard.user) != 0 }
-                })
-            }
-        };
-        let loc = crate::localize(&full.shape, &partial.shape, &opts, &prog)?;
-        let warnings = loc.warnings.iter().map(|w| CString::new(w.replace('\0', " ")).unwrap_or_default()).collect();
-        let h = Box::into_raw(Box::new(ds_result { loc, warnings }));
-        unsafe { write_out(out, h, "out") }
+        let options = unsafe { options_in(options)? };
+        let loc = crate::localize(&full.mesh, &partial.mesh, &options, &progress_of(progress, user))?;
+        unsafe { write_handle(out, result_handle(loc)) }
     })
 }
 
 /// Release a result (NULL is ignored).
 ///
 /// # Safety
-/// `result` must be NULL or a handle from `ds_localize` not yet destroyed.
+/// `result` must be NULL or a handle from `ds_localize`/`ds_localizer_locate` not yet destroyed.
 #[no_mangle]
 pub unsafe extern "C" fn ds_result_destroy(result: *mut ds_result) {
-    if !result.is_null() {
-        let _ = catch_unwind(AssertUnwindSafe(|| drop(unsafe { Box::from_raw(result) })));
-    }
+    unsafe { destroy(result) }
 }
 
-/// Number of vertices of the full mesh, the length of the per-vertex arrays (0 for NULL).
+/// Number of vertices of the full mesh in the host's numbering, the length of the per-vertex
+/// arrays (0 for NULL).
 ///
 /// # Safety
 /// `result` must be NULL or a live handle.
@@ -577,8 +841,8 @@ fn copy_f64(src: &[f64], out: *mut f64, out_len: usize, what: &str) -> Result<()
     Ok(())
 }
 
-/// The region: `out[i] = 1` if vertex `i` of the full mesh is in the matched region, else 0.
-/// `out_len` must equal `ds_result_n_vertices(result)`.
+/// The region: `out[i] = 1` if vertex `i` of the full mesh is in the matched region, else 0
+/// (0 at vertices the intake left out). `out_len` must equal `ds_result_n_vertices(result)`.
 ///
 /// # Safety
 /// `result` a live handle; `out` valid for `out_len` writes.
@@ -663,7 +927,7 @@ pub unsafe extern "C" fn ds_result_cost(result: *const ds_result, out: *mut f64)
     guard(|| unsafe { write_out(out, handle(result, "result")?.loc.cost, "out") })
 }
 
-/// Total wall-clock seconds of `ds_localize`.
+/// Total wall-clock seconds of the call that made the result.
 ///
 /// # Safety
 /// `result` a live handle; `out` valid for one write.
@@ -681,11 +945,12 @@ pub unsafe extern "C" fn ds_result_timings(result: *const ds_result, out: *mut d
     guard(|| {
         let t = &unsafe { handle(result, "result")? }.loc.timings;
         let c = ds_timings {
+            preparation: t.preparation,
             preprocessing: t.preprocessing,
             starts: t.starts,
             optimisation: t.optimisation,
-            selection: t.selection,
             region: t.region,
+            selection: t.selection,
             total: t.total,
         };
         unsafe { write_out(out, c, "out") }
@@ -710,8 +975,9 @@ pub unsafe extern "C" fn ds_result_starts(result: *const ds_result, selected: *m
     })
 }
 
-/// Number of warnings about repairs made to the input (e.g. a disconnected partial reduced to
-/// its largest component); 0 for NULL.
+/// Number of warnings about what was repaired or left out (what the intake left out of the
+/// full and partial meshes, a disconnected partial reduced to its largest component, ...); 0
+/// for NULL.
 ///
 /// # Safety
 /// `result` must be NULL or a live handle.

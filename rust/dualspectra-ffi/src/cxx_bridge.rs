@@ -3,60 +3,22 @@
 //! `build.rs`).
 //!
 //! Shared plain types live in namespace `dualspectra` and are part of the public C++ API
-//! (`Options`, `Timings`, `Mode`, `Metric`, `Status`); the functions and the opaque mesh
-//! live in `dualspectra::detail` and are wrapped by the public header, which turns a
-//! `rust::Error` into a typed `dualspectra::Error` carrying the [`ffi::Status`] recorded here.
+//! (`Timings`, `Metric`, `Status`); the functions and the opaque Rust types (mesh, options,
+//! localizer) live in `dualspectra::detail` and are wrapped by the public header, which turns
+//! a `rust::Error` into a typed `dualspectra::Error` carrying the [`ffi::Status`] recorded here.
 //!
 //! Every function body runs under `catch_unwind` (a panic must not reach C++, where cxx would
 //! abort): a panic becomes an error with status `Panic`. Conversion only, no formula.
 
-use crate::ShapeCache;
+use crate::{HostLocalizer, HostMesh};
 use dualspectra::shape::Metric as CoreMetric;
-use dualspectra::{Error, Progress, TriMesh};
+use dualspectra::{Error, Localization, Options, Progress};
 use std::cell::Cell;
 use std::panic::{catch_unwind, AssertUnwindSafe};
-use std::sync::Mutex;
+use std::sync::{Mutex, OnceLock};
 
 #[cxx::bridge(namespace = "dualspectra")]
 pub mod ffi {
-    /// Which spectra `localize` matches.
-    #[repr(u32)]
-    enum Mode {
-        /// k regular + k scale-invariant eigenvalues (the paper's method).
-        Dual = 0,
-        /// 2k regular (Laplace-Beltrami) eigenvalues.
-        Lbo = 1,
-        /// 2k scale-invariant eigenvalues.
-        Si = 2,
-    }
-
-    /// How `localize` chooses among its optimised starts.
-    #[repr(u32)]
-    enum Selection {
-        /// SHOT descriptors projected on the first eigenfunctions (the paper's rule).
-        Descriptors = 0,
-        /// The lowest final alignment cost.
-        Cost = 1,
-        /// The lowest alignment cost of the candidate's extracted region as a step potential.
-        Region = 2,
-        /// The lowest descriptor score among the candidates whose region cost is at most 3x
-        /// the lowest (the default).
-        Gated = 3,
-    }
-
-    /// The starting potentials around each farthest-point centre.
-    #[repr(u32)]
-    enum StartShape {
-        /// The area-matched ball and coball and a wide Gaussian bump: 3 per centre (default).
-        BallsAndWideBumps = 0,
-        /// The two balls and the wide Gaussian well and bump: 4 per centre.
-        BallsAndWideGaussians = 1,
-        /// The reference's Gaussians, two widths, both signs: 4 per centre.
-        Gaussian = 2,
-        /// The two balls only: 2 per centre.
-        AreaBall = 3,
-    }
-
     /// The metric of a spectrum.
     #[repr(u32)]
     enum Metric {
@@ -76,44 +38,23 @@ pub mod ffi {
         Io = 6,
     }
 
-    /// Parameters of `localize`; `default_options()` gives the paper's settings.
-    #[derive(Clone, Copy)]
-    struct Options {
-        mode: Mode,
-        /// Eigenvalues per spectrum (`Dual`: k + k, `Lbo`/`Si`: 2k).
-        k: usize,
-        /// Exponent of the scale-invariant factor.
-        alpha: f64,
-        /// Seed of every random choice.
-        seed: u64,
-        /// Vertices of the decimated full shape the potential is optimised on (0: none).
-        resolution: usize,
-        /// Farthest-point centres of the starts (each gives 3 starts).
-        centers: usize,
-        /// Trust-region iterations per start.
-        max_iterations: usize,
-        /// Worker threads (0: all cores).
-        threads: usize,
-        selection: Selection,
-        start_shape: StartShape,
-        /// Further starts from the full shape's first eigenfunctions, two each (0: none).
-        spectral_cuts: usize,
-        /// Plane-cut starts, one per direction (the first of 26 around the principal axes; 0: none).
-        plane_cuts: usize,
-    }
-
-    /// Wall-clock seconds per stage of `localize`.
+    /// Wall-clock seconds per stage of a localization.
     #[derive(Debug, Clone, Copy, Default)]
     struct Timings {
+        /// Preparing the full mesh (0 for `Localizer::locate`: see `preparation_seconds()`).
+        preparation: f64,
+        /// The partial's spectra and descriptors.
         preprocessing: f64,
         starts: f64,
         optimisation: f64,
-        selection: f64,
+        /// Each candidate's region on the full mesh.
         region: f64,
+        /// Scoring the candidates and choosing one.
+        selection: f64,
         total: f64,
     }
 
-    /// Raw result of `localize` (the public header converts it to std containers).
+    /// Raw result of a localization (the public header converts it to std containers).
     #[namespace = "dualspectra::detail"]
     struct LocalizationData {
         region: Vec<u8>,
@@ -141,23 +82,57 @@ pub mod ffi {
 
     #[namespace = "dualspectra::detail"]
     extern "Rust" {
-        /// A validated triangle mesh with cached operators.
+        /// A validated triangle mesh with cached operators and, for a host's mesh, the map
+        /// back to the host's vertex numbering.
         type MeshData;
 
         fn mesh_from_arrays(positions: &[f64], triangles: &[u32]) -> Result<Box<MeshData>>;
+        fn mesh_from_host(positions: &[f64], triangles: &[u32]) -> Result<Box<MeshData>>;
+        /// Vertices in the host's numbering (the length of every per-vertex array).
         fn n_vertices(self: &MeshData) -> usize;
+        /// Faces used.
         fn n_faces(self: &MeshData) -> usize;
-        /// Flat positions `x0 y0 z0 x1 ...` (`3 * n_vertices`).
+        /// Flat positions `x0 y0 z0 x1 ...` of the used vertices.
         fn positions(self: &MeshData) -> &[f64];
-        /// Flat 0-based triangles `i0 j0 k0 ...` (`3 * n_faces`).
+        /// Flat 0-based triangles `i0 j0 k0 ...` into the used vertices.
         fn triangles(self: &MeshData) -> &[u32];
+        /// Host index of each used vertex.
+        fn used_vertices(self: &MeshData) -> Vec<u32>;
+        /// What the intake left out ("" if nothing).
+        fn warning(self: &MeshData) -> String;
 
-        fn default_options() -> Options;
+        /// The localizer's options (the core's `Options`).
+        type OptionsData;
+
+        fn options_new() -> Box<OptionsData>;
+        fn options_clone(options: &OptionsData) -> Box<OptionsData>;
+        fn options_set_text(options: &mut OptionsData, name: &str, value: &str) -> Result<()>;
+        fn options_set_i64(options: &mut OptionsData, name: &str, value: i64) -> Result<()>;
+        fn options_set_u64(options: &mut OptionsData, name: &str, value: u64) -> Result<()>;
+        fn options_set_f64(options: &mut OptionsData, name: &str, value: f64) -> Result<()>;
+        fn options_set_json(options: &mut OptionsData, json_object: &str) -> Result<()>;
+        fn options_json(options: &OptionsData) -> String;
+        fn options_schema() -> &'static str;
+
+        /// A prepared full shape.
+        type LocalizerData;
+
+        fn localizer_new(full: &MeshData, options: &OptionsData, progress: &ProgressSink) -> Result<Box<LocalizerData>>;
+        fn localizer_locate(localizer: &LocalizerData, partial: &MeshData, progress: &ProgressSink) -> Result<LocalizationData>;
+        /// Vertices of the full mesh in the host's numbering.
+        fn n_vertices(self: &LocalizerData) -> usize;
+        fn optimisation_vertices(self: &LocalizerData) -> usize;
+        fn preparation_seconds(self: &LocalizerData) -> f64;
+        fn warnings(self: &LocalizerData) -> Vec<String>;
+        fn options(self: &LocalizerData) -> Box<OptionsData>;
+
         fn gaussian_curvature(mesh: &MeshData, smoothed: bool) -> Result<Vec<f64>>;
         fn cotangent_stiffness(mesh: &MeshData) -> Result<TripletData>;
         fn mass(mesh: &MeshData, metric: Metric, alpha: f64) -> Result<Vec<f64>>;
         fn spectrum(mesh: &MeshData, k: usize, metric: Metric, alpha: f64) -> Result<Vec<f64>>;
-        fn localize(full: &MeshData, partial: &MeshData, options: &Options, progress: &ProgressSink) -> Result<LocalizationData>;
+        /// The default exponent of the scale-invariant metric (the "alpha" option's default).
+        fn default_alpha() -> f64;
+        fn localize(full: &MeshData, partial: &MeshData, options: &OptionsData, progress: &ProgressSink) -> Result<LocalizationData>;
         /// Status of the last error thrown on this thread.
         fn last_error_status() -> Status;
         fn version() -> &'static str;
@@ -174,12 +149,18 @@ pub mod ffi {
 }
 
 // SAFETY: `ProgressSink::report` is documented thread-safe on the C++ side for serialized calls
-// (we hold a Mutex around every call) and it is only used while `localize` runs.
+// (we hold a Mutex around every call) and it is only used while the call it was given to runs.
 unsafe impl Sync for ffi::ProgressSink {}
 unsafe impl Send for ffi::ProgressSink {}
 
 /// The payload of the C++ `detail::MeshData`.
-pub struct MeshData(ShapeCache);
+pub struct MeshData(HostMesh);
+
+/// The payload of the C++ `detail::OptionsData`.
+pub struct OptionsData(Options);
+
+/// The payload of the C++ `detail::LocalizerData`.
+pub struct LocalizerData(HostLocalizer);
 
 thread_local! {
     static LAST_STATUS: Cell<i32> = const { Cell::new(0) };
@@ -202,30 +183,43 @@ fn fail(status: i32, message: String) -> BridgeError {
     BridgeError(message)
 }
 
+fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
+    payload
+        .downcast_ref::<&str>()
+        .map(|s| (*s).to_owned())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "unknown panic payload".into())
+}
+
 /// Run a bridge body: catch panics, record the status of an error for `last_error_status`.
 fn guarded<T>(body: impl FnOnce() -> Result<T, Error>) -> Result<T, BridgeError> {
     LAST_STATUS.with(|s| s.set(0));
     match catch_unwind(AssertUnwindSafe(body)) {
         Ok(Ok(v)) => Ok(v),
         Ok(Err(e)) => Err(fail(crate::status_of(&e), e.to_string())),
-        Err(payload) => {
-            let msg = payload
-                .downcast_ref::<&str>()
-                .map(|s| (*s).to_owned())
-                .or_else(|| payload.downcast_ref::<String>().cloned())
-                .unwrap_or_else(|| "unknown panic payload".into());
-            Err(fail(crate::c_abi::DS_PANIC, format!("internal error (panic caught at the C++ boundary): {msg}")))
-        }
+        Err(payload) => Err(fail(
+            crate::c_abi::DS_PANIC,
+            format!("internal error (panic caught at the C++ boundary): {}", panic_text(&*payload)),
+        )),
     }
 }
 
+/// For infallible bridge functions: a panic yields `fallback` (cxx would abort on unwinding).
+fn guarded_value<T>(fallback: impl FnOnce() -> T, body: impl FnOnce() -> T) -> T {
+    catch_unwind(AssertUnwindSafe(body)).unwrap_or_else(|_| fallback())
+}
+
 fn mesh_from_arrays(positions: &[f64], triangles: &[u32]) -> Result<Box<MeshData>, BridgeError> {
-    guarded(|| Ok(Box::new(MeshData(ShapeCache::new(TriMesh::from_flat(positions, triangles)?)))))
+    guarded(|| Ok(Box::new(MeshData(HostMesh::strict(positions, triangles)?))))
+}
+
+fn mesh_from_host(positions: &[f64], triangles: &[u32]) -> Result<Box<MeshData>, BridgeError> {
+    guarded(|| Ok(Box::new(MeshData(HostMesh::from_host(positions, triangles)?))))
 }
 
 impl MeshData {
     fn n_vertices(&self) -> usize {
-        self.0.mesh().n_vertices()
+        self.0.n_vertices()
     }
     fn n_faces(&self) -> usize {
         self.0.mesh().n_faces()
@@ -236,45 +230,106 @@ impl MeshData {
     fn triangles(&self) -> &[u32] {
         self.0.mesh().faces().as_flattened()
     }
+    fn used_vertices(&self) -> Vec<u32> {
+        guarded_value(Vec::new, || self.0.used_vertices())
+    }
+    fn warning(&self) -> String {
+        guarded_value(String::new, || self.0.host_map().warning("mesh").unwrap_or_default())
+    }
+}
+
+fn options_new() -> Box<OptionsData> {
+    Box::new(OptionsData(Options::default()))
+}
+
+fn options_clone(options: &OptionsData) -> Box<OptionsData> {
+    Box::new(OptionsData(options.0.clone()))
+}
+
+fn options_set_text(options: &mut OptionsData, name: &str, value: &str) -> Result<(), BridgeError> {
+    guarded(|| crate::set_option(&mut options.0, name, serde_json::Value::String(value.to_owned())))
+}
+
+fn options_set_i64(options: &mut OptionsData, name: &str, value: i64) -> Result<(), BridgeError> {
+    guarded(|| crate::set_option(&mut options.0, name, value.into()))
+}
+
+fn options_set_u64(options: &mut OptionsData, name: &str, value: u64) -> Result<(), BridgeError> {
+    guarded(|| crate::set_option(&mut options.0, name, value.into()))
+}
+
+fn options_set_f64(options: &mut OptionsData, name: &str, value: f64) -> Result<(), BridgeError> {
+    guarded(|| {
+        let v = serde_json::Number::from_f64(value)
+            .map(serde_json::Value::Number)
+            .ok_or_else(|| Error::InvalidArgument(format!("{name} = {value} is not a finite number")))?;
+        crate::set_option(&mut options.0, name, v)
+    })
+}
+
+fn options_set_json(options: &mut OptionsData, json_object: &str) -> Result<(), BridgeError> {
+    guarded(|| crate::set_json(&mut options.0, json_object))
+}
+
+fn options_json(options: &OptionsData) -> String {
+    guarded_value(String::new, || options.0.to_json())
+}
+
+fn options_schema() -> &'static str {
+    static SCHEMA: OnceLock<String> = OnceLock::new();
+    guarded_value(|| "[]", || SCHEMA.get_or_init(dualspectra::localizer::options_schema_json).as_str())
+}
+
+/// Address of the caller's `ProgressSink`, valid while the call it was given to runs.
+struct SinkPtr(*const ffi::ProgressSink);
+// SAFETY: see the `Send`/`Sync` impls of `ProgressSink`; access is serialized by a Mutex.
+unsafe impl Send for SinkPtr {}
+
+/// The core's progress handle reporting to `sink` (none if the sink has no callback).
+fn progress_of(sink: &ffi::ProgressSink) -> Progress {
+    if !sink.is_active() {
+        return Progress::none();
+    }
+    let sink = Mutex::new(SinkPtr(sink as *const _));
+    Progress::new(move |fraction, stage| {
+        let guard = sink.lock().unwrap_or_else(|p| p.into_inner());
+        // SAFETY: the sink outlives the bridge call, during which alone the closure runs.
+        unsafe { &*guard.0 }.report(fraction, stage)
+    })
+}
+
+fn localizer_new(full: &MeshData, options: &OptionsData, progress: &ffi::ProgressSink) -> Result<Box<LocalizerData>, BridgeError> {
+    guarded(|| Ok(Box::new(LocalizerData(HostLocalizer::new(&full.0, &options.0, &progress_of(progress))?))))
+}
+
+fn localizer_locate(
+    localizer: &LocalizerData,
+    partial: &MeshData,
+    progress: &ffi::ProgressSink,
+) -> Result<ffi::LocalizationData, BridgeError> {
+    guarded(|| Ok(localization_data(localizer.0.locate(&partial.0, &progress_of(progress))?)))
+}
+
+impl LocalizerData {
+    fn n_vertices(&self) -> usize {
+        self.0.n_vertices()
+    }
+    fn optimisation_vertices(&self) -> usize {
+        self.0.localizer().optimisation_vertices()
+    }
+    fn preparation_seconds(&self) -> f64 {
+        self.0.localizer().preparation_seconds()
+    }
+    fn warnings(&self) -> Vec<String> {
+        guarded_value(Vec::new, || self.0.warnings())
+    }
+    fn options(&self) -> Box<OptionsData> {
+        Box::new(OptionsData(self.0.localizer().options().clone()))
+    }
 }
 
 fn metric_to_core(m: ffi::Metric) -> Result<CoreMetric, Error> {
     crate::metric_from_code(m.repr)
-}
-
-fn options_to_c(o: &ffi::Options) -> crate::c_abi::ds_options {
-    crate::c_abi::ds_options {
-        mode: o.mode.repr,
-        k: o.k,
-        alpha: o.alpha,
-        seed: o.seed,
-        resolution: o.resolution,
-        centers: o.centers,
-        max_iterations: o.max_iterations,
-        threads: o.threads,
-        selection: o.selection.repr,
-        start_shape: o.start_shape.repr,
-        spectral_cuts: o.spectral_cuts,
-        plane_cuts: o.plane_cuts,
-    }
-}
-
-fn default_options() -> ffi::Options {
-    let o = crate::options_to_c(&dualspectra::Options::default());
-    ffi::Options {
-        mode: ffi::Mode { repr: o.mode },
-        k: o.k,
-        alpha: o.alpha,
-        seed: o.seed,
-        resolution: o.resolution,
-        centers: o.centers,
-        max_iterations: o.max_iterations,
-        threads: o.threads,
-        selection: ffi::Selection { repr: o.selection },
-        start_shape: ffi::StartShape { repr: o.start_shape },
-        spectral_cuts: o.spectral_cuts,
-        plane_cuts: o.plane_cuts,
-    }
 }
 
 fn gaussian_curvature(mesh: &MeshData, smoothed: bool) -> Result<Vec<f64>, BridgeError> {
@@ -285,13 +340,15 @@ fn spectrum(mesh: &MeshData, k: usize, metric: ffi::Metric, alpha: f64) -> Resul
     guarded(|| crate::spectrum(&mesh.0, k, metric_to_core(metric)?, alpha))
 }
 
+/// The cotangent stiffness in the host's numbering (rows and columns of used vertices only).
 fn cotangent_stiffness(mesh: &MeshData) -> Result<ffi::TripletData, BridgeError> {
     guarded(|| {
+        let host = mesh.0.used_vertices();
         let w = mesh.0.stiffness();
-        let mut t = ffi::TripletData { n: w.nrows(), rows: Vec::new(), cols: Vec::new(), values: Vec::new() };
+        let mut t = ffi::TripletData { n: mesh.0.n_vertices(), rows: Vec::new(), cols: Vec::new(), values: Vec::new() };
         for e in w.triplet_iter() {
-            t.rows.push(e.row as u32);
-            t.cols.push(e.col as u32);
+            t.rows.push(host[e.row]);
+            t.cols.push(host[e.col]);
             t.values.push(*e.val);
         }
         Ok(t)
@@ -302,53 +359,44 @@ fn mass(mesh: &MeshData, metric: ffi::Metric, alpha: f64) -> Result<Vec<f64>, Br
     guarded(|| crate::mass(&mesh.0, metric_to_core(metric)?, alpha))
 }
 
-/// Address of the caller's `ProgressSink`, valid while `localize` runs.
-struct SinkPtr(*const ffi::ProgressSink);
-// SAFETY: see the `Send`/`Sync` impls of `ProgressSink`; access is serialized by a Mutex.
-unsafe impl Send for SinkPtr {}
+fn default_alpha() -> f64 {
+    Options::default().alpha
+}
+
+fn localization_data(loc: Localization) -> ffi::LocalizationData {
+    let t = &loc.timings;
+    let timings = ffi::Timings {
+        preparation: t.preparation,
+        preprocessing: t.preprocessing,
+        starts: t.starts,
+        optimisation: t.optimisation,
+        region: t.region,
+        selection: t.selection,
+        total: t.total,
+    };
+    ffi::LocalizationData {
+        region: loc.region.iter().map(|&b| b as u8).collect(),
+        score: loc.score,
+        potential: loc.potential,
+        eigenvalues_regular: loc.eigenvalues_regular,
+        eigenvalues_si: loc.eigenvalues_si,
+        target_regular: loc.target_regular,
+        target_si: loc.target_si,
+        cost: loc.cost,
+        selected_start: loc.selected_start,
+        n_starts: loc.n_starts,
+        timings,
+        warnings: loc.warnings,
+    }
+}
 
 fn localize(
     full: &MeshData,
     partial: &MeshData,
-    options: &ffi::Options,
+    options: &OptionsData,
     progress: &ffi::ProgressSink,
 ) -> Result<ffi::LocalizationData, BridgeError> {
-    guarded(|| {
-        let opts = crate::options_from_c(&options_to_c(options))?;
-        let prog = if progress.is_active() {
-            let sink = Mutex::new(SinkPtr(progress as *const _));
-            Progress::new(move |fraction, stage| {
-                let guard = sink.lock().unwrap_or_else(|p| p.into_inner());
-                // SAFETY: the sink outlives this `localize` call, during which alone the closure runs.
-                unsafe { &*guard.0 }.report(fraction, stage)
-            })
-        } else {
-            Progress::none()
-        };
-        let loc = crate::localize(&full.0, &partial.0, &opts, &prog)?;
-        let t = &loc.timings;
-        Ok(ffi::LocalizationData {
-            region: loc.region.iter().map(|&b| b as u8).collect(),
-            score: loc.score.clone(),
-            potential: loc.potential.clone(),
-            eigenvalues_regular: loc.eigenvalues_regular.clone(),
-            eigenvalues_si: loc.eigenvalues_si.clone(),
-            target_regular: loc.target_regular.clone(),
-            target_si: loc.target_si.clone(),
-            cost: loc.cost,
-            selected_start: loc.selected_start,
-            n_starts: loc.n_starts,
-            timings: ffi::Timings {
-                preprocessing: t.preprocessing,
-                starts: t.starts,
-                optimisation: t.optimisation,
-                selection: t.selection,
-                region: t.region,
-                total: t.total,
-            },
-            warnings: loc.warnings.clone(),
-        })
-    })
+    guarded(|| Ok(localization_data(crate::localize(&full.0, &partial.0, &options.0, &progress_of(progress))?)))
 }
 
 fn last_error_status() -> ffi::Status {

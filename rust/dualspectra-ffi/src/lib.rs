@@ -9,31 +9,74 @@
 //!   rewrites it).
 //! - [`cxx_bridge`]: the `cxx` bridge behind the C++ API `cpp/include/dualspectra/dualspectra.hpp`.
 //!
+//! Both share the (crate-private) types of this module: `HostMesh` (a mesh with the map back
+//! to the host's vertex numbering, when it came through the core's
+//! [`MeshIntake`]), `HostLocalizer` (the core's [`Localizer`] with the full mesh's map), and
+//! the conversion of results to the host's numbering.
+//!
 //! Built as `staticlib` (what CMake imports), `cdylib` and `rlib` (for the Rust tests).
 
 pub mod c_abi;
 pub mod cxx_bridge;
 
+use dualspectra::mesh::intake::MeshIntake;
 use dualspectra::shape::{Metric, Shape};
-use dualspectra::{Error, Localization, Mode, Options, Progress, Selection, StartShape, TriMesh};
+use dualspectra::{Error, Localization, Localizer, Options, Progress, TriMesh};
+use std::sync::Arc;
 
 /// A mesh handle's payload: the core's [`Shape`] (the mesh with its operators cached on first
-/// use, so repeated curvature/spectrum queries on one handle do not recompute them).
-pub(crate) struct ShapeCache {
+/// use, so repeated curvature/spectrum queries on one handle do not recompute them) and, for a
+/// mesh taken in from a host's arrays, the intake's map back to the host's vertices.
+///
+/// Every per-vertex array in or out of a `HostMesh` is in the host's numbering, of length
+/// [`HostMesh::n_vertices`]; vertices the intake left out get a fill value (0, `false`).
+pub(crate) struct HostMesh {
     shape: Shape,
+    /// `None`: a strict mesh (the host's numbering is the mesh's).
+    intake: Option<Arc<MeshIntake>>,
 }
 
-impl ShapeCache {
-    pub(crate) fn new(mesh: TriMesh) -> Self {
-        ShapeCache { shape: Shape::new(mesh) }
+impl HostMesh {
+    /// A mesh checked strictly ([`TriMesh::from_flat`]).
+    pub(crate) fn strict(xyz: &[f64], tri: &[u32]) -> Result<Self, Error> {
+        Ok(HostMesh { shape: Shape::new(TriMesh::from_flat(xyz, tri)?), intake: None })
     }
+
+    /// A host's arrays through the core intake ([`MeshIntake::from_flat`]): degenerate faces and
+    /// vertices in no face are left out, results come back in the host's numbering.
+    pub(crate) fn from_host(xyz: &[f64], tri: &[u32]) -> Result<Self, Error> {
+        let intake = MeshIntake::from_flat(xyz, tri)?;
+        Ok(HostMesh { shape: Shape::new(intake.mesh.clone()), intake: Some(Arc::new(intake)) })
+    }
+
+    /// The mesh the core works on.
     pub(crate) fn mesh(&self) -> &TriMesh {
         self.shape.mesh()
     }
-    /// Cotangent stiffness $W$ (cached).
+
+    /// Vertices in the host's numbering: the length of every per-vertex array.
+    pub(crate) fn n_vertices(&self) -> usize {
+        self.intake.as_ref().map_or(self.mesh().n_vertices(), |i| i.n_host_vertices)
+    }
+
+    /// Host index of each vertex of [`HostMesh::mesh`] (increasing).
+    pub(crate) fn used_vertices(&self) -> Vec<u32> {
+        match &self.intake {
+            Some(i) => i.kept.clone(),
+            None => (0..self.mesh().n_vertices() as u32).collect(),
+        }
+    }
+
+    /// The map of this mesh's results to the host's numbering.
+    pub(crate) fn host_map(&self) -> HostMap {
+        HostMap { intake: self.intake.clone() }
+    }
+
+    /// Cotangent stiffness $W$ (cached), on the mesh's own vertices.
     pub(crate) fn stiffness(&self) -> &dualspectra::operators::SparseMatrix {
         self.shape.stiffness()
     }
+
     /// Run `f` on the handle's shape, or, for the scale-invariant metric with an exponent
     /// other than the handle's, on a fresh [`Shape`] with exponent `alpha`.
     fn with_metric<T>(&self, metric: Metric, alpha: f64, f: impl FnOnce(&Shape) -> Result<T, Error>) -> Result<T, Error> {
@@ -47,6 +90,88 @@ impl ShapeCache {
             f(&Shape::with_metric_params(self.mesh().clone(), alpha, eps))
         }
     }
+}
+
+/// How per-vertex results of one mesh go back to its host's numbering (cheap to clone: the
+/// intake is shared).
+#[derive(Clone)]
+pub(crate) struct HostMap {
+    intake: Option<Arc<MeshIntake>>,
+}
+
+impl HostMap {
+    /// `values` (one per mesh vertex) at the host's indices; `fill` at left-out vertices.
+    pub(crate) fn to_host<T: Clone>(&self, values: Vec<T>, fill: T) -> Vec<T> {
+        match &self.intake {
+            Some(i) => i.to_host(&values, fill),
+            None => values,
+        }
+    }
+
+    /// Vertices in the host's numbering, for a mesh of `n_mesh` vertices.
+    pub(crate) fn n_vertices(&self, n_mesh: usize) -> usize {
+        self.intake.as_ref().map_or(n_mesh, |i| i.n_host_vertices)
+    }
+
+    /// What the intake left out, as a sentence about `what` ("full mesh").
+    pub(crate) fn warning(&self, what: &str) -> Option<String> {
+        self.intake.as_ref().and_then(|i| i.warning(what))
+    }
+}
+
+/// A prepared full shape ([`Localizer`]) with the map of its results to the host's numbering
+/// and the intake's note about the full mesh. `Send + Sync`: partials may be located from
+/// several threads at once.
+pub(crate) struct HostLocalizer {
+    localizer: Localizer,
+    full: HostMap,
+}
+
+impl HostLocalizer {
+    pub(crate) fn new(full: &HostMesh, options: &Options, progress: &Progress) -> Result<Self, Error> {
+        Ok(HostLocalizer { localizer: Localizer::with_progress(full.mesh(), options, progress)?, full: full.host_map() })
+    }
+
+    /// Locate `partial`; the result in the host's numbering of the full mesh.
+    pub(crate) fn locate(&self, partial: &HostMesh, progress: &Progress) -> Result<Localization, Error> {
+        let loc = self.localizer.locate(partial.mesh(), progress)?;
+        Ok(to_host(loc, &self.full, &partial.host_map()))
+    }
+
+    pub(crate) fn localizer(&self) -> &Localizer {
+        &self.localizer
+    }
+
+    /// Vertices of the full mesh in the host's numbering.
+    pub(crate) fn n_vertices(&self) -> usize {
+        self.full.n_vertices(self.localizer.n_vertices())
+    }
+
+    /// The intake's note on the full mesh, then the preparation's notes.
+    pub(crate) fn warnings(&self) -> Vec<String> {
+        self.full.warning("full mesh").into_iter().chain(self.localizer.warnings().iter().cloned()).collect()
+    }
+}
+
+/// Find the region of `full` that `partial` is, in one call ([`dualspectra::localize`]); the
+/// result in the host's numbering of the full mesh.
+pub(crate) fn localize(full: &HostMesh, partial: &HostMesh, options: &Options, progress: &Progress) -> Result<Localization, Error> {
+    let loc = dualspectra::localize(full.mesh(), partial.mesh(), options, progress)?;
+    Ok(to_host(loc, &full.host_map(), &partial.host_map()))
+}
+
+/// A result's per-vertex arrays (region, score, potential, the candidates' regions) in the
+/// host's numbering of the full mesh, and the intakes' notes first among its warnings.
+fn to_host(mut loc: Localization, full: &HostMap, partial: &HostMap) -> Localization {
+    loc.region = full.to_host(std::mem::take(&mut loc.region), false);
+    loc.score = full.to_host(std::mem::take(&mut loc.score), 0.0);
+    loc.potential = full.to_host(std::mem::take(&mut loc.potential), 0.0);
+    for c in &mut loc.candidates {
+        c.region = full.to_host(std::mem::take(&mut c.region), false);
+    }
+    let notes = full.warning("full mesh").into_iter().chain(partial.warning("partial mesh"));
+    loc.warnings = notes.chain(std::mem::take(&mut loc.warnings)).collect();
+    loc
 }
 
 /// Map a core error to a C status code.
@@ -70,102 +195,34 @@ pub(crate) fn metric_from_code(code: u32) -> Result<Metric, Error> {
     }
 }
 
-pub(crate) fn mode_from_code(code: u32) -> Result<Mode, Error> {
-    match code {
-        c_abi::DS_MODE_DUAL => Ok(Mode::Dual),
-        c_abi::DS_MODE_LBO => Ok(Mode::Lbo),
-        c_abi::DS_MODE_SI => Ok(Mode::Si),
-        _ => Err(Error::InvalidArgument(format!("unknown mode {code} (expected 0 = dual, 1 = lbo, 2 = si)"))),
+/// Set the options of a JSON object (`{"k": 10, "mode": "lbo"}`) on top of `options`: all or
+/// none (an unknown name or a value out of range leaves `options` unchanged and names it).
+pub(crate) fn set_json(options: &mut Options, json: &str) -> Result<(), Error> {
+    let value: serde_json::Value =
+        serde_json::from_str(json).map_err(|e| Error::InvalidArgument(format!("options are not valid JSON: {e}")))?;
+    let object = value
+        .as_object()
+        .ok_or_else(|| Error::InvalidArgument("options must be a JSON object of name: value".into()))?;
+    let mut updated = options.clone();
+    for (name, v) in object {
+        updated.set(name, v.clone())?;
     }
+    updated.validate()?;
+    *options = updated;
+    Ok(())
 }
 
-pub(crate) fn mode_code(mode: Mode) -> u32 {
-    match mode {
-        Mode::Dual => c_abi::DS_MODE_DUAL,
-        Mode::Lbo => c_abi::DS_MODE_LBO,
-        Mode::Si => c_abi::DS_MODE_SI,
+/// Set one option from text ([`Options::set_str`]) or a JSON value ([`Options::set`]), checked
+/// together with the others ([`Options::validate`]); `options` unchanged on error.
+pub(crate) fn set_option(options: &mut Options, name: &str, value: serde_json::Value) -> Result<(), Error> {
+    let mut updated = options.clone();
+    match value {
+        serde_json::Value::String(text) => updated.set_str(name, &text)?,
+        v => updated.set(name, v)?,
     }
-}
-
-pub(crate) fn selection_from_code(code: u32) -> Result<Selection, Error> {
-    match code {
-        c_abi::DS_SELECTION_DESCRIPTORS => Ok(Selection::Descriptors),
-        c_abi::DS_SELECTION_COST => Ok(Selection::Cost),
-        c_abi::DS_SELECTION_REGION => Ok(Selection::Region),
-        c_abi::DS_SELECTION_GATED => Ok(Selection::Gated),
-        _ => Err(Error::InvalidArgument(format!(
-            "unknown selection {code} (expected 0 = descriptors, 1 = cost, 2 = region, 3 = gated)"
-        ))),
-    }
-}
-
-pub(crate) fn selection_code(selection: Selection) -> u32 {
-    match selection {
-        Selection::Descriptors => c_abi::DS_SELECTION_DESCRIPTORS,
-        Selection::Cost => c_abi::DS_SELECTION_COST,
-        Selection::Region => c_abi::DS_SELECTION_REGION,
-        Selection::Gated => c_abi::DS_SELECTION_GATED,
-    }
-}
-
-pub(crate) fn start_shape_from_code(code: u32) -> Result<StartShape, Error> {
-    match code {
-        c_abi::DS_STARTS_BALLS_AND_WIDE_BUMPS => Ok(StartShape::BallsAndWideBumps),
-        c_abi::DS_STARTS_BALLS_AND_WIDE_GAUSSIANS => Ok(StartShape::BallsAndWideGaussians),
-        c_abi::DS_STARTS_GAUSSIAN => Ok(StartShape::Gaussian),
-        c_abi::DS_STARTS_AREA_BALL => Ok(StartShape::AreaBall),
-        _ => Err(Error::InvalidArgument(format!(
-            "unknown start shape {code} (expected 0 = balls and wide bumps, 1 = balls and wide \
-             Gaussians, 2 = Gaussian, 3 = area ball)"
-        ))),
-    }
-}
-
-pub(crate) fn start_shape_code(shape: StartShape) -> u32 {
-    match shape {
-        StartShape::BallsAndWideBumps => c_abi::DS_STARTS_BALLS_AND_WIDE_BUMPS,
-        StartShape::BallsAndWideGaussians => c_abi::DS_STARTS_BALLS_AND_WIDE_GAUSSIANS,
-        StartShape::Gaussian => c_abi::DS_STARTS_GAUSSIAN,
-        StartShape::AreaBall => c_abi::DS_STARTS_AREA_BALL,
-    }
-}
-
-/// Options from the C struct (the same fields as the C++ one). Ranges are checked by the core's
-/// `localize` (each violation is an `InvalidArgument`).
-pub(crate) fn options_from_c(o: &c_abi::ds_options) -> Result<Options, Error> {
-    #[allow(clippy::needless_update)]
-    Ok(Options {
-        mode: mode_from_code(o.mode)?,
-        k: o.k,
-        alpha: o.alpha,
-        seed: o.seed,
-        resolution: o.resolution,
-        centers: o.centers,
-        max_iterations: o.max_iterations,
-        threads: o.threads,
-        selection: selection_from_code(o.selection)?,
-        start_shape: start_shape_from_code(o.start_shape)?,
-        spectral_cuts: o.spectral_cuts,
-        plane_cuts: o.plane_cuts,
-        ..Options::default()
-    })
-}
-
-pub(crate) fn options_to_c(o: &Options) -> c_abi::ds_options {
-    c_abi::ds_options {
-        mode: mode_code(o.mode),
-        k: o.k,
-        alpha: o.alpha,
-        seed: o.seed,
-        resolution: o.resolution,
-        centers: o.centers,
-        max_iterations: o.max_iterations,
-        threads: o.threads,
-        selection: selection_code(o.selection),
-        start_shape: start_shape_code(o.start_shape),
-        spectral_cuts: o.spectral_cuts,
-        plane_cuts: o.plane_cuts,
-    }
+    updated.validate()?;
+    *options = updated;
+    Ok(())
 }
 
 /// `major * 10000 + minor * 100 + patch` of this crate.
@@ -175,29 +232,25 @@ pub(crate) fn version_number() -> u32 {
     a * 10000 + b * 100 + c
 }
 
-/// Pointwise (angle-defect) Gaussian curvature, raw or one-ring smoothed (cached by the core).
-pub(crate) fn gaussian_curvature(shape: &ShapeCache, smoothed: bool) -> Vec<f64> {
-    if smoothed {
-        shape.shape.smoothed_curvature().to_vec()
-    } else {
-        shape.shape.gaussian_curvature().to_vec()
-    }
+/// Pointwise (angle-defect) Gaussian curvature, raw or one-ring smoothed (cached by the core),
+/// in the host's numbering (0 at left-out vertices).
+pub(crate) fn gaussian_curvature(mesh: &HostMesh, smoothed: bool) -> Vec<f64> {
+    let k = if smoothed { mesh.shape.smoothed_curvature() } else { mesh.shape.gaussian_curvature() };
+    mesh.host_map().to_host(k.to_vec(), 0.0)
 }
 
 /// The `k` smallest Dirichlet eigenvalues in `metric` ([`Shape::dirichlet_spectrum`]); a
 /// scale-invariant spectrum with an `alpha` other than the handle's default uses a fresh
 /// [`Shape`] with that exponent.
-pub(crate) fn spectrum(shape: &ShapeCache, k: usize, metric: Metric, alpha: f64) -> Result<Vec<f64>, Error> {
-    shape.with_metric(metric, alpha, |s| Ok(s.dirichlet_spectrum(metric, k)?.values))
+pub(crate) fn spectrum(mesh: &HostMesh, k: usize, metric: Metric, alpha: f64) -> Result<Vec<f64>, Error> {
+    mesh.with_metric(metric, alpha, |s| Ok(s.dirichlet_spectrum(metric, k)?.values))
 }
 
-/// Mass diagonal of `metric` ([`Shape::metric_mass`]), all vertices.
-pub(crate) fn mass(shape: &ShapeCache, metric: Metric, alpha: f64) -> Result<Vec<f64>, Error> {
-    shape.with_metric(metric, alpha, |s| Ok(s.metric_mass(metric).to_vec()))
-}
-
-pub(crate) fn localize(full: &ShapeCache, partial: &ShapeCache, options: &Options, progress: &Progress) -> Result<Localization, Error> {
-    dualspectra::localize(full.mesh(), partial.mesh(), options, progress)
+/// Mass diagonal of `metric` ([`Shape::metric_mass`]) in the host's numbering (0 at left-out
+/// vertices).
+pub(crate) fn mass(mesh: &HostMesh, metric: Metric, alpha: f64) -> Result<Vec<f64>, Error> {
+    let m = mesh.with_metric(metric, alpha, |s| Ok(s.metric_mass(metric).to_vec()))?;
+    Ok(mesh.host_map().to_host(m, 0.0))
 }
 
 /// The Hamiltonian eigenvalues at the optimum (`target = false`) or the partial shape's
