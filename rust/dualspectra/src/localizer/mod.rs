@@ -155,11 +155,7 @@ impl Localizer {
 /// # Ok(()) }
 /// ```
 pub fn localize(full: &TriMesh, partial: &TriMesh, options: &Options, progress: &Progress) -> Result<Localization> {
-    let localizer = Localizer::with_progress(full, options, &progress.sub(0.0, 0.05))?;
-    let mut result = localizer.locate(partial, &progress.sub(0.05, 1.0))?;
-    result.timings.preparation = localizer.preparation_seconds;
-    result.timings.total += localizer.preparation_seconds;
-    Ok(result)
+    localize_with_initial_regions(full, partial, options, &[], progress)
 }
 
 /// [`localize`] with extra starts (see [`Localizer::locate_with_initial_regions`]).
