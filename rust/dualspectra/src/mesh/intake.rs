@@ -72,10 +72,10 @@ impl MeshIntake {
 
     /// From flat arrays `xyz` (3 per vertex) and `tri` (3 per face).
     pub fn from_flat(xyz: &[f64], tri: &[u32]) -> Result<Self> {
-        if xyz.len() % 3 != 0 {
+        if !xyz.len().is_multiple_of(3) {
             return Err(MeshError::BadArrayLength { len: xyz.len(), stride: 3 }.into());
         }
-        if tri.len() % 3 != 0 {
+        if !tri.len().is_multiple_of(3) {
             return Err(MeshError::BadArrayLength { len: tri.len(), stride: 3 }.into());
         }
         Self::new(

@@ -30,10 +30,10 @@ impl TriMesh {
 
     /// Build from flat arrays `[x0, y0, z0, x1, ...]` and `[i0, j0, k0, ...]` (as from C or numpy).
     pub fn from_flat(vertices: &[f64], faces: &[u32]) -> Result<Self, MeshError> {
-        if vertices.len() % 3 != 0 {
+        if !vertices.len().is_multiple_of(3) {
             return Err(MeshError::BadArrayLength { len: vertices.len(), stride: 3 });
         }
-        if faces.len() % 3 != 0 {
+        if !faces.len().is_multiple_of(3) {
             return Err(MeshError::BadArrayLength { len: faces.len(), stride: 3 });
         }
         let v = vertices.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
