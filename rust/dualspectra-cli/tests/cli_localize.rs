@@ -319,6 +319,45 @@ fn bench_locates_two_partials_with_one_prepared_shape_as_localize_does() {
 }
 
 #[test]
+fn bench_all_runs_every_dev_set_layout_and_scores_one_pair_alike_in_each() {
+    // The same full shape, partial and region written in the SHREC'16 layout (barycentric
+    // ground truth) and the PFAUST layout (vertex ground truth): `bench --all` finds both
+    // sets, and both score the pair identically (same meshes, same region).
+    use dualspectra::evaluation::datasets::{write_shrec16_pair, Dataset};
+    use dualspectra::evaluation::synthetic::{synthetic_pair, SyntheticParams};
+    let root = tmp("bench-all");
+    let pair = synthetic_pair(&SyntheticParams { level: 3, ..SyntheticParams::default() }).unwrap();
+    let shrec = root.join("shrec16");
+    write_shrec16_pair(&shrec, "figure", 1, &pair.full, &pair.partial, &pair.barycentric_gt(), None).unwrap();
+    let loaded = Dataset::open(&shrec).unwrap().pairs().unwrap()[0].load().unwrap();
+    let region: String = loaded.gt.iter().enumerate().filter(|(_, &g)| g).map(|(i, _)| format!("{i}\n")).collect();
+    let pfaust = root.join("pfaust_m");
+    std::fs::create_dir_all(pfaust.join("null")).unwrap();
+    std::fs::create_dir_all(pfaust.join("partials")).unwrap();
+    std::fs::copy(shrec.join("null/figure.off"), pfaust.join("null/tr_reg_010.off")).unwrap();
+    std::fs::copy(shrec.join("cuts/cuts_figure_shape_1.off"), pfaust.join("partials/tr_reg_011.off")).unwrap();
+    std::fs::write(pfaust.join("partials/tr_reg_011.vertex_gt"), region).unwrap();
+    let json = root.join("all.json");
+    let out = run(bin().args(["bench", "--quiet", "--all"]).arg(&root).args(LIGHT).arg("--json").arg(&json).arg("--svg").arg(root.join("all.svg")));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("== summary") && text.contains("mean of sets") && text.contains("pfaust_m"), "{text}");
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let sets = v["sets"].as_array().unwrap();
+    assert_eq!(sets.iter().map(|s| s["set"].as_str().unwrap()).collect::<Vec<_>>(), ["shrec16", "pfaust_m"]);
+    let (a, b) = (&sets[0]["pairs"][0], &sets[1]["pairs"][0]);
+    assert!(a["error"].is_null() && b["error"].is_null(), "{a} {b}");
+    assert_eq!(a["gt_size"], b["gt_size"]);
+    assert_eq!(a["scores"], b["scores"]);
+    assert!(root.join("all-shrec16.svg").is_file() && root.join("all-pfaust_m.svg").is_file());
+    let mean = v["mean_of_sets"]["mean"]["iou"].as_f64().unwrap();
+    assert!((mean - a["scores"]["iou"].as_f64().unwrap()).abs() < 1e-12);
+    // No folder and no environment: a usage error naming the variable.
+    let e = bin().args(["bench", "--all", "--quiet"]).env_remove("DUALSPECTRA_DATA").output().unwrap();
+    assert_eq!(e.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&e.stderr).contains("DUALSPECTRA_DATA"));
+}
+
+#[test]
 fn issue23_outputs_are_checked_before_the_localization() {
     // An output naming an input, a directory or a device fails at once (exit 5), before any
     // work, and the input is untouched.

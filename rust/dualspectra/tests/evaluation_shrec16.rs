@@ -5,10 +5,10 @@
 //! shape, agrees with the partial/full area ratio (the dataset README: 0.506 vs 0.494 on
 //! cuts_cat_shape_1; the shapes are near-isometric).
 
-use dualspectra::evaluation::datasets::Shrec16;
+use dualspectra::evaluation::datasets::Dataset;
 
-fn dataset() -> Option<Shrec16> {
-    match Shrec16::from_env() {
+fn dataset() -> Option<Dataset> {
+    match Dataset::from_env() {
         None => {
             eprintln!("SKIP: DUALSPECTRA_DATA is not set (it should hold shrec16/)");
             None

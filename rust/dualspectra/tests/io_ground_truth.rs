@@ -37,7 +37,7 @@ fn dataset(name: &str, full: &Path, rows: &[usize]) -> Pair {
     std::fs::copy(data("tetrahedron.off"), root.join("cuts/cuts_shape_shape_1.off")).unwrap();
     let gt: String = rows.iter().map(|t| format!("{t} 0.2 0.3 0.5\n")).collect();
     std::fs::write(root.join("cuts/cuts_shape_shape_1.baryc_gt"), gt).unwrap();
-    let pairs = dualspectra::evaluation::datasets::Shrec16::open(&root).unwrap().pairs().unwrap();
+    let pairs = dualspectra::evaluation::datasets::Dataset::open(&root).unwrap().pairs().unwrap();
     assert_eq!(pairs.len(), 1);
     pairs.into_iter().next().unwrap()
 }

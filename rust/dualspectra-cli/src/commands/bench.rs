@@ -1,32 +1,41 @@
-//! `dualspectra bench DATASET [--mode dual|lbo|si] [--k K] [--json OUT] [--svg OUT]
-//! [--limit N] [--filter SUBSTR] [--stride N]`
+//! `dualspectra bench DATASET [options] [--json OUT] [--svg OUT] [--limit N] [--filter SUBSTR]
+//! [--stride N]`, `dualspectra bench --all [ROOT] ...`
 //!
-//! Runs the localizer on every pair of a dataset in the SHREC'16 layout (`DATASET/null/`,
-//! `DATASET/cuts/`, see `dualspectra::evaluation::datasets`), one pair after another (the
-//! localizer is itself parallel), and scores each region against the ground truth:
+//! Runs the localizer on every pair of a dataset (SHREC'16 CUTS or HOLES, PFARM or PFAUST
+//! layout, see `dualspectra::evaluation::datasets`), one pair after another (the localizer
+//! is itself parallel), and scores each region against the ground truth:
 //! precision, recall and IoU by vertex counts, also symmetry-aware (the better of the
 //! direct and the left-right mirrored ground truth, as SHREC'16 accepts symmetric
 //! matches). Prints a table and the means; a pair that fails scores 0 and is listed with
 //! its error. `--json` writes every pair's scores, `--svg` the cumulative IoU curve (the
-//! paper's Fig. 5: fraction of pairs with IoU >= x; its area is the mean IoU).
+//! paper's Fig. 5: fraction of pairs with IoU >= x; its area is the mean IoU). `--all` runs
+//! every dev set found under ROOT (default `$DUALSPECTRA_DATA`): a table per set, then one
+//! line per set and the means across sets; `--json` then holds every set, `--svg OUT`
+//! writes one plot per set (`OUT` with `-<set>` before the extension).
 
 use super::localize::{progress_bar, region_indices, LocalizeOptions};
 use crate::error::CliError;
 use crate::output::{check_output_path, to_json_line, write_text};
-use dualspectra::evaluation::datasets::{Pair, Shrec16};
+use dualspectra::evaluation::datasets::{data_root_from_env, Dataset, Pair, DATA_ENV, DEV_SETS};
 use dualspectra::evaluation::metrics::{self, cumulative_iou, Match, Scores};
 use dualspectra::operators::lumped_mass;
 use dualspectra::{Localizer, Mode, Options, Progress, Timings};
 use std::collections::HashMap;
 use serde::Serialize;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Dataset folder in the SHREC'16 layout (holding null/ and cuts/), e.g. $DUALSPECTRA_DATA/shrec16.
+    /// Dataset folder (SHREC'16 cuts/ or holes/, PFARM, PFAUST layout), e.g.
+    /// $DUALSPECTRA_DATA/shrec16; with --all, the folder holding the dev sets
+    /// (default $DUALSPECTRA_DATA).
     #[arg(value_name = "DATASET")]
-    pub dataset: PathBuf,
+    pub dataset: Option<PathBuf>,
+    /// Run every dev set present under DATASET: shrec16, shrec16_holes, pfarm, pfaust_m,
+    /// pfaust_h (--filter, --stride and --limit apply within each set).
+    #[arg(long)]
+    pub all: bool,
     #[command(flatten)]
     pub options: LocalizeOptions,
     /// Write per-pair scores and the summary as JSON.
@@ -92,6 +101,24 @@ struct Report<'a> {
     options: &'a Options,
     summary: &'a Summary,
     pairs: &'a [PairResult],
+}
+
+/// One set's results in the `--all` report.
+#[derive(Serialize)]
+struct SetReport {
+    set: String,
+    dataset: String,
+    summary: Summary,
+    pairs: Vec<PairResult>,
+}
+
+#[derive(Serialize)]
+struct AllReport<'a> {
+    root: String,
+    options: &'a Options,
+    /// Unweighted means of the sets' means (each set counts once).
+    mean_of_sets: &'a Summary,
+    sets: &'a [SetReport],
 }
 
 const ZERO: Scores = Scores {
@@ -247,43 +274,36 @@ fn print_row(r: &PairResult) {
     }
 }
 
-pub fn run(args: Args) -> Result<(), CliError> {
-    let options = args.options.to_options()?;
-    for out in [&args.json, &args.svg].into_iter().flatten() {
-        check_output_path(out, &[])?;
-    }
-    let dataset = Shrec16::open(&args.dataset)?;
+/// The pairs of `dataset` after `--filter`, `--stride` and `--limit`.
+fn select_pairs(dataset: &Dataset, args: &Args) -> Result<Vec<Pair>, CliError> {
     let mut pairs = dataset.pairs()?;
     if let Some(f) = &args.filter {
         pairs.retain(|p| p.name.contains(f.as_str()));
     }
     if let Some(s) = args.stride {
-        if s == 0 {
-            return Err(CliError::Usage("--stride must be at least 1".into()));
-        }
         pairs = pairs.into_iter().step_by(s).collect();
     }
     if let Some(n) = args.limit {
         pairs.truncate(n);
     }
-    if pairs.is_empty() {
-        return Err(CliError::Usage(format!(
-            "{}: no pairs to run (check --filter / --limit)",
-            args.dataset.display()
-        )));
-    }
+    Ok(pairs)
+}
+
+/// Run and print one set; `Err` only for cancellation or a dataset that cannot be listed.
+fn run_set(dataset: &Dataset, pairs: &[Pair], options: &Options, quiet: bool) -> Result<Vec<PairResult>, CliError> {
     println!(
         "{:<28} {:>6} {:>6} {:>6} {:>6} {:>6} {:>8} {:>8}",
         "pair", "|R|", "|G|", "prec", "recall", "IoU", "IoU_sym", "seconds"
     );
     let n = pairs.len();
-    let (bar, progress) = progress_bar(args.quiet, "bench");
+    let set = dataset.root().file_name().map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+    let (bar, progress) = progress_bar(quiet, "bench");
     let mut results = Vec::with_capacity(n);
     let mut prepared = Prepared::new();
     for (i, pair) in pairs.iter().enumerate() {
-        bar.set_prefix(format!("bench {}/{n} {}", i + 1, pair.name));
+        bar.set_prefix(format!("bench {set} {}/{n} {}", i + 1, pair.name));
         let sub = progress.sub(i as f64 / n as f64, (i + 1) as f64 / n as f64);
-        let r = run_pair(pair, &options, &mut prepared, &sub).unwrap_or_else(|e| PairResult {
+        let r = run_pair(pair, options, &mut prepared, &sub).unwrap_or_else(|e| PairResult {
             name: pair.name.clone(),
             class: pair.class.clone(),
             region_size: 0,
@@ -295,12 +315,7 @@ pub fn run(args: Args) -> Result<(), CliError> {
             cost: f64::NAN,
             seconds: 0.0,
             timings: Timings::default(),
-            error: Some(
-                e.to_string()
-                    .split_whitespace()
-                    .collect::<Vec<_>>()
-                    .join(" "),
-            ),
+            error: Some(e.to_string().split_whitespace().collect::<Vec<_>>().join(" ")),
             region: vec![],
         });
         if matches!(r.error.as_deref(), Some("cancelled")) {
@@ -311,12 +326,15 @@ pub fn run(args: Args) -> Result<(), CliError> {
         results.push(r);
     }
     bar.finish_and_clear();
-    let s = summarize(&results);
+    Ok(results)
+}
+
+fn print_summary(s: &Summary, mode: Mode) {
     println!(
         "mean ({} pairs, {} failed, mode {}): precision {:.3} recall {:.3} IoU {:.3} | symmetry-aware: precision {:.3} recall {:.3} IoU {:.3} | area-weighted IoU {:.3} | median {:.2} s/pair",
         s.pairs,
         s.failed,
-        options.mode,
+        mode,
         s.mean.precision,
         s.mean.recall,
         s.mean.iou,
@@ -331,9 +349,92 @@ pub fn run(args: Args) -> Result<(), CliError> {
         "median seconds per stage: preparation of the full shape {:.2} (once per shape), preprocessing {:.2}, starts {:.2}, optimisation {:.2}, regions {:.2}, selection {:.2}",
         t.preparation, t.preprocessing, t.starts, t.optimisation, t.region, t.selection
     );
+}
+
+/// The cumulative IoU plot of one set's results.
+fn set_svg(results: &[PairResult], mode: Mode, title: &str) -> Result<String, CliError> {
+    let mode = match mode {
+        Mode::Dual => "dual spectra",
+        Mode::Lbo => "LBO only",
+        Mode::Si => "SI-LBO only",
+    };
+    let curves = vec![
+        (format!("{mode}, symmetry-aware"), results.iter().map(|r| r.scores_sym.iou).collect()),
+        (format!("{mode}, direct"), results.iter().map(|r| r.scores.iou).collect()),
+    ];
+    cumulative_iou_svg(&format!("{title}: cumulative IoU ({} pairs)", results.len()), &curves)
+}
+
+/// `OUT` with `-<set>` before its extension.
+fn per_set_path(out: &Path, set: &str) -> PathBuf {
+    let stem = out.file_stem().map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+    let ext = out.extension().map_or_else(String::new, |e| format!(".{}", e.to_string_lossy()));
+    out.with_file_name(format!("{stem}-{set}{ext}"))
+}
+
+/// Unweighted mean over sets of their summaries (each set counts once); seconds are the
+/// median of the sets' medians.
+fn mean_of_sets(summaries: &[&Summary]) -> Summary {
+    let m = |f: &dyn Fn(&Summary) -> f64| metrics::mean(&summaries.iter().map(|s| f(s)).collect::<Vec<_>>());
+    let med = |f: &dyn Fn(&Summary) -> f64| metrics::median(&summaries.iter().map(|s| f(s)).collect::<Vec<_>>());
+    let sc = |g: fn(&Summary) -> Scores| Scores {
+        precision: m(&|s| g(s).precision),
+        recall: m(&|s| g(s).recall),
+        iou: m(&|s| g(s).iou),
+    };
+    let t = |g: fn(&Timings) -> f64| med(&|s| g(&s.median_stage_seconds));
+    Summary {
+        pairs: summaries.iter().map(|s| s.pairs).sum(),
+        failed: summaries.iter().map(|s| s.failed).sum(),
+        mean: sc(|s| s.mean),
+        mean_sym: sc(|s| s.mean_sym),
+        mean_area_iou: m(&|s| s.mean_area_iou),
+        median_seconds: med(&|s| s.median_seconds),
+        total_seconds: summaries.iter().map(|s| s.total_seconds).sum(),
+        median_stage_seconds: Timings {
+            preparation: t(|t| t.preparation),
+            preprocessing: t(|t| t.preprocessing),
+            starts: t(|t| t.starts),
+            optimisation: t(|t| t.optimisation),
+            selection: t(|t| t.selection),
+            region: t(|t| t.region),
+            total: t(|t| t.total),
+        },
+    }
+}
+
+fn print_set_line(set: &str, s: &Summary) {
+    println!(
+        "{:<16} {:>5} {:>6} {:>6} {:>6} {:>6} {:>8} {:>9}",
+        set, s.pairs, s.failed, format!("{:.3}", s.mean.precision), format!("{:.3}", s.mean.recall), format!("{:.3}", s.mean.iou), format!("{:.3}", s.mean_sym.iou), format!("{:.2}", s.median_seconds)
+    );
+}
+
+pub fn run(args: Args) -> Result<(), CliError> {
+    let options = args.options.to_options()?;
+    for out in [&args.json, &args.svg].into_iter().flatten() {
+        check_output_path(out, &[])?;
+    }
+    if args.stride == Some(0) {
+        return Err(CliError::Usage("--stride must be at least 1".into()));
+    }
+    if args.all {
+        return run_all(&args, &options);
+    }
+    let Some(root) = &args.dataset else {
+        return Err(CliError::Usage("give a DATASET folder, or --all for every dev set".into()));
+    };
+    let dataset = Dataset::open(root)?;
+    let pairs = select_pairs(&dataset, &args)?;
+    if pairs.is_empty() {
+        return Err(CliError::Usage(format!("{}: no pairs to run (check --filter / --limit)", root.display())));
+    }
+    let results = run_set(&dataset, &pairs, &options, args.quiet)?;
+    let s = summarize(&results);
+    print_summary(&s, options.mode);
     if let Some(path) = &args.json {
         let report = Report {
-            dataset: args.dataset.display().to_string(),
+            dataset: root.display().to_string(),
             options: &options,
             summary: &s,
             pairs: &results,
@@ -341,23 +442,51 @@ pub fn run(args: Args) -> Result<(), CliError> {
         write_text(path, &to_json_line(&report)?)?;
     }
     if let Some(path) = &args.svg {
-        let mode = match options.mode {
-            Mode::Dual => "dual spectra",
-            Mode::Lbo => "LBO only",
-            Mode::Si => "SI-LBO only",
-        };
-        let curves = vec![
-            (
-                format!("{mode}, symmetry-aware"),
-                results.iter().map(|r| r.scores_sym.iou).collect(),
-            ),
-            (
-                format!("{mode}, direct"),
-                results.iter().map(|r| r.scores.iou).collect(),
-            ),
-        ];
-        let svg = cumulative_iou_svg(&format!("Cumulative IoU ({} pairs)", s.pairs), &curves)?;
-        write_text(path, &svg)?;
+        write_text(path, &set_svg(&results, options.mode, "all pairs")?)?;
+    }
+    Ok(())
+}
+
+fn run_all(args: &Args, options: &Options) -> Result<(), CliError> {
+    let root = match (&args.dataset, data_root_from_env()) {
+        (Some(r), _) => r.clone(),
+        (None, Some(r)) => r,
+        (None, None) => return Err(CliError::Usage(format!("--all needs the folder holding the dev sets: give it, or set {DATA_ENV}"))),
+    };
+    let present: Vec<&str> = DEV_SETS.iter().copied().filter(|s| root.join(s).is_dir()).collect();
+    if present.is_empty() {
+        return Err(CliError::Usage(format!("{}: none of the dev sets {} is there", root.display(), DEV_SETS.join(", "))));
+    }
+    let mut sets = Vec::new();
+    for set in present {
+        let dataset = Dataset::open(root.join(set))?;
+        let pairs = select_pairs(&dataset, args)?;
+        if pairs.is_empty() {
+            println!("== {set}: no pairs selected");
+            continue;
+        }
+        println!("== {set} ({} pairs, {})", pairs.len(), dataset.root().display());
+        let results = run_set(&dataset, &pairs, options, args.quiet)?;
+        let summary = summarize(&results);
+        print_summary(&summary, options.mode);
+        if let Some(out) = &args.svg {
+            write_text(&per_set_path(out, set), &set_svg(&results, options.mode, set)?)?;
+        }
+        sets.push(SetReport { set: set.to_string(), dataset: dataset.root().display().to_string(), summary, pairs: results });
+    }
+    if sets.is_empty() {
+        return Err(CliError::Usage(format!("{}: no pairs to run (check --filter / --limit)", root.display())));
+    }
+    let overall = mean_of_sets(&sets.iter().map(|s| &s.summary).collect::<Vec<_>>());
+    println!("\n== summary (mode {})", options.mode);
+    println!("{:<16} {:>5} {:>6} {:>6} {:>6} {:>6} {:>8} {:>9}", "set", "pairs", "failed", "prec", "recall", "IoU", "IoU_sym", "median_s");
+    for s in &sets {
+        print_set_line(&s.set, &s.summary);
+    }
+    print_set_line("mean of sets", &overall);
+    if let Some(path) = &args.json {
+        let report = AllReport { root: root.display().to_string(), options, mean_of_sets: &overall, sets: &sets };
+        write_text(path, &to_json_line(&report)?)?;
     }
     Ok(())
 }

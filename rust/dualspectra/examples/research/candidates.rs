@@ -7,7 +7,7 @@
 //! One line per candidate: pair, label, final cost, the four selection scores, its
 //! symmetry-aware IoU, `*` on the chosen one. One [`Localizer`] per full shape.
 
-use dualspectra::evaluation::datasets::Shrec16;
+use dualspectra::evaluation::datasets::Dataset;
 use dualspectra::evaluation::metrics::{scores, symmetry_aware};
 use dualspectra::{Localizer, Options, Progress};
 use std::collections::HashMap;
@@ -24,7 +24,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let show = |x: Option<f64>| x.map_or("-".to_string(), |v| format!("{v:.4}"));
     println!("pair label cost descriptor_score region_cost boundary_misfit partial_fit iou_sym chosen");
     let mut prepared: HashMap<std::path::PathBuf, Localizer> = HashMap::new();
-    for pair in Shrec16::open(root)?.pairs()?.iter().skip(offset).step_by(stride) {
+    for pair in Dataset::open(root)?.pairs()?.iter().skip(offset).step_by(stride) {
         let data = pair.load()?;
         if !prepared.contains_key(&pair.full) {
             prepared.insert(pair.full.clone(), Localizer::new(&data.full, &options)?);

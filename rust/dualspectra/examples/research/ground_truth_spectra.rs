@@ -10,7 +10,7 @@
 //!
 //! The ground-truth mask (triangles hit by the partial's vertices) has holes where the partial
 //! is coarser than the full shape; it is closed as the localizer closes its regions.
-use dualspectra::evaluation::datasets::Shrec16;
+use dualspectra::evaluation::datasets::Dataset;
 use dualspectra::geometry::metric::{transfer_factor, DEFAULT_ALPHA, DEFAULT_EPS};
 use dualspectra::shape::{Metric, Shape};
 use dualspectra::spectra::{EigenParams, HamiltonianSolver};
@@ -23,7 +23,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let res: usize = std::env::var("DS_RES").ok().and_then(|v| v.parse().ok()).unwrap_or(1000);
     let local_si = std::env::var("DS_SI").map(|v| v == "local").unwrap_or(false);
     let k = 20;
-    let data = Shrec16::open(root)?;
+    let data = Dataset::open(root)?;
     let (mut total_regular, mut total_si, mut n) = (0.0, 0.0, 0);
     for pair in data.pairs()?.iter().skip(offset).step_by(stride) {
         let p = pair.load()?;

@@ -1,27 +1,38 @@
-//! Benchmark datasets on disk. Currently the SHREC'16 Partial Matching of Deformable
-//! Shapes layout (Cosmo, Rodolà et al. 2016), CUTS or HOLES:
+//! Benchmark datasets on disk, in the layouts of the shipped dev sets (`$DUALSPECTRA_DATA`,
+//! see its README). [`Dataset::open`] tells them apart by their folders:
 //!
 //! ```text
-//! <root>/null/<class>.off                 full shapes (canonical pose)
-//! <root>/cuts/cuts_<class>_shape_<i>.off  partial shapes (deformed, cut, own triangulation)
-//! <root>/cuts/<name>.baryc_gt             one row per partial vertex:
-//!                                         <triangle of null/<class>.off, 1-based> w1 w2 w3
-//! <root>/cuts/<name>.baryc_gt_sym         the same for the left-right mirrored match
+//! SHREC'16 CUTS / HOLES (Cosmo, Rodolà et al. 2016)
+//!   <root>/null/<class>.off                       full shapes
+//!   <root>/{cuts,holes}/<set>_<class>_shape_<i>.off  partial shapes
+//!   <root>/{cuts,holes}/<name>.baryc_gt[_sym]     per partial vertex: <full triangle, 1-based> w1 w2 w3
+//! PFARM (Attaiki et al. 2021): one template, scans of other people
+//!   <root>/null/<template>.off                    the one full shape
+//!   <root>/cuts/<name>.off
+//!   <root>/gt/<name>_<template>.vertex_gt[_sym]   the region: 0-based full vertices, one per line
+//! PFAUST-M / -H (Bracha, Dagès, Kimmel 2023): FAUST people with holes
+//!   <root>/null/tr_reg_<P>0.off                   person P in pose 0
+//!   <root>/partials/tr_reg_<PQ>.off               person P, pose Q, with holes
+//!   <root>/partials/<name>.vertex_gt[_sym]
 //! ```
 //!
-//! The ground-truth region on the full shape marks the three vertices of the triangle of
-//! every row (marking only the largest-weight vertex leaves holes where the partial is
-//! coarser than the full shape). The dataset root is an argument; [`data_root_from_env`]
-//! reads `$DUALSPECTRA_DATA` (which holds `shrec16/`).
+//! A `.baryc_gt` region marks the three vertices of every row's triangle (marking only the
+//! largest-weight vertex leaves holes where the partial is coarser than the full shape).
+//! `_sym` is the left-right mirrored match. Ground truth names the files' elements and is
+//! mapped through the reader's report onto the mesh it returns. The dataset root is an
+//! argument; [`data_root_from_env`] reads `$DUALSPECTRA_DATA`.
 
 use crate::error::{Error, Result};
-use crate::mesh::io::{read_mesh, read_mesh_with_report, ReadOptions, ReadReport};
+use crate::mesh::io::{read_mesh_with_report, ReadOptions, ReadReport};
 use crate::mesh::TriMesh;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 /// Environment variable naming the folder that holds the datasets (`shrec16/`, ...).
 pub const DATA_ENV: &str = "DUALSPECTRA_DATA";
+
+/// The dev sets under `$DUALSPECTRA_DATA`, in the order `bench --all` runs them.
+pub const DEV_SETS: [&str; 5] = ["shrec16", "shrec16_holes", "pfarm", "pfaust_m", "pfaust_h"];
 
 /// `$DUALSPECTRA_DATA` if set and non-empty.
 pub fn data_root_from_env() -> Option<PathBuf> {
@@ -30,19 +41,39 @@ pub fn data_root_from_env() -> Option<PathBuf> {
         .map(PathBuf::from)
 }
 
-/// One partial/full pair of a SHREC'16-layout dataset (paths only; see [`Pair::load`]).
+/// How a dataset's files are laid out (see the module documentation).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Layout {
+    Shrec16,
+    Pfarm,
+    Pfaust,
+}
+
+/// Which kind of ground-truth file a pair has.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum GroundTruthKind {
+    /// `.baryc_gt`: per partial vertex, a 1-based triangle of the full shape and weights.
+    Barycentric,
+    /// `.vertex_gt`: the region, 0-based vertices of the full shape.
+    Vertices,
+}
+
+/// One partial/full pair of a dataset (paths only; see [`Pair::load`]).
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Pair {
     /// File stem of the partial shape, e.g. `cuts_cat_shape_1`.
     pub name: String,
-    /// Class, e.g. `cat` (the full shape is `null/<class>.off`).
+    /// Class: the SHREC'16 class (`cat`), else the full shape's file stem.
     pub class: String,
-    /// Index `i` of `..._shape_<i>`.
+    /// Index `i` of SHREC'16's `..._shape_<i>` (0 in the other layouts).
     pub index: u32,
     pub full: PathBuf,
     pub partial: PathBuf,
     pub gt: PathBuf,
     pub gt_sym: PathBuf,
+    pub gt_kind: GroundTruthKind,
 }
 
 /// A loaded pair: both meshes and the ground-truth masks over the full mesh's vertices.
@@ -54,6 +85,9 @@ pub struct LoadedPair {
     pub gt: Vec<bool>,
     /// The same for the left-right mirrored correspondence (`None` if the file is absent).
     pub gt_sym: Option<Vec<bool>>,
+    /// What reading repaired in the full and the partial shape.
+    pub full_report: ReadReport,
+    pub partial_report: ReadReport,
 }
 
 /// Split `<prefix>_<class>_shape_<i>` into `(class, i)`. The prefix is the part before the
@@ -67,11 +101,12 @@ pub fn parse_pair_name(name: &str) -> Option<(String, u32)> {
     Some((class.to_string(), index.parse().ok()?))
 }
 
-/// A dataset folder in the SHREC'16 layout (holding `null/` and one partial folder).
+/// A dataset folder: `null/` with the full shapes and one folder of partial shapes.
 #[derive(Debug, Clone)]
-pub struct Shrec16 {
+pub struct Dataset {
     root: PathBuf,
     partial_dir: PathBuf,
+    layout: Layout,
 }
 
 fn io_err(path: &Path, source: std::io::Error) -> Error {
@@ -88,80 +123,108 @@ fn parse_err(path: &Path, message: impl Into<String>) -> Error {
     }
 }
 
-impl Shrec16 {
-    /// Open `root`, which must contain `null/` and `cuts/` (or `holes/`).
+/// The `.off` files of `dir` (sorted by path).
+fn off_files(dir: &Path) -> Result<Vec<PathBuf>> {
+    let mut out = Vec::new();
+    for entry in std::fs::read_dir(dir).map_err(|e| io_err(dir, e))? {
+        let path = entry.map_err(|e| io_err(dir, e))?.path();
+        let is_off = path.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("off"));
+        if is_off && path.is_file() {
+            out.push(path);
+        }
+    }
+    out.sort();
+    Ok(out)
+}
+
+fn stem(path: &Path) -> Option<String> {
+    path.file_stem().and_then(|s| s.to_str()).map(str::to_string)
+}
+
+impl Dataset {
+    /// Open `root`, which must hold `null/` and `cuts/`, `holes/` or `partials/`: PFARM
+    /// when `gt/` is there too, PFAUST for `partials/`, SHREC'16 otherwise.
     pub fn open(root: impl AsRef<Path>) -> Result<Self> {
         let root = root.as_ref().to_path_buf();
         if !root.is_dir() {
-            return Err(parse_err(
-                &root,
-                "dataset folder not found (expected a folder with null/ and cuts/)",
-            ));
+            return Err(parse_err(&root, "dataset folder not found (expected a folder with null/ and cuts/, holes/ or partials/)"));
         }
         if !root.join("null").is_dir() {
-            return Err(parse_err(
-                &root,
-                "not a SHREC'16 dataset folder: no null/ subfolder",
-            ));
+            return Err(parse_err(&root, "not a dataset folder: no null/ subfolder (full shapes)"));
         }
-        let partial_dir = ["cuts", "holes"]
-            .iter()
-            .map(|d| root.join(d))
-            .find(|p| p.is_dir())
-            .ok_or_else(|| {
-                parse_err(
-                    &root,
-                    "not a SHREC'16 dataset folder: no cuts/ (or holes/) subfolder",
-                )
-            })?;
-        Ok(Shrec16 { root, partial_dir })
+        let (dir, layout) = if root.join("partials").is_dir() {
+            ("partials", Layout::Pfaust)
+        } else if root.join("cuts").is_dir() && root.join("gt").is_dir() {
+            ("cuts", Layout::Pfarm)
+        } else if root.join("cuts").is_dir() {
+            ("cuts", Layout::Shrec16)
+        } else if root.join("holes").is_dir() {
+            ("holes", Layout::Shrec16)
+        } else {
+            return Err(parse_err(&root, "not a dataset folder: no cuts/, holes/ or partials/ subfolder"));
+        };
+        Ok(Dataset { partial_dir: root.join(dir), root, layout })
     }
 
     /// `$DUALSPECTRA_DATA/shrec16`, if the variable is set (the folder may still be invalid).
     pub fn from_env() -> Option<Result<Self>> {
-        data_root_from_env().map(|r| Self::open(r.join("shrec16")))
+        Self::from_env_named("shrec16")
+    }
+
+    /// `$DUALSPECTRA_DATA/<set>`, if the variable is set (the folder may still be invalid).
+    pub fn from_env_named(set: &str) -> Option<Result<Self>> {
+        data_root_from_env().map(|r| Self::open(r.join(set)))
     }
 
     pub fn root(&self) -> &Path {
         &self.root
     }
 
-    /// Every pair with a partial `.off` whose name parses (see [`parse_pair_name`]),
-    /// sorted by class then index. Missing full shapes or ground-truth files are reported
-    /// when the pair is loaded, not here, so a listing never fails on one bad pair.
+    pub fn layout(&self) -> Layout {
+        self.layout
+    }
+
+    /// Every pair with a partial `.off` (SHREC'16: whose name parses, see
+    /// [`parse_pair_name`]), sorted by class, index and name. Missing full shapes or
+    /// ground-truth files are reported when the pair is loaded, not here, so a listing
+    /// never fails on one bad pair.
     pub fn pairs(&self) -> Result<Vec<Pair>> {
-        let entries =
-            std::fs::read_dir(&self.partial_dir).map_err(|e| io_err(&self.partial_dir, e))?;
-        let mut pairs = Vec::new();
-        for entry in entries {
-            let path = entry.map_err(|e| io_err(&self.partial_dir, e))?.path();
-            if path
-                .extension()
-                .and_then(|e| e.to_str())
-                .map(|e| e.eq_ignore_ascii_case("off"))
-                != Some(true)
-            {
-                continue;
+        let null = self.root.join("null");
+        let template = match self.layout {
+            Layout::Pfarm => {
+                let fulls = off_files(&null)?;
+                let [one] = fulls.as_slice() else {
+                    return Err(parse_err(&null, format!("a PFARM folder holds one full shape (the template); found {} .off files", fulls.len())));
+                };
+                Some(one.clone())
             }
-            let Some(name) = path
-                .file_stem()
-                .and_then(|s| s.to_str())
-                .map(str::to_string)
-            else {
-                continue;
+            _ => None,
+        };
+        let mut pairs = Vec::new();
+        for path in off_files(&self.partial_dir)? {
+            let Some(name) = stem(&path) else { continue };
+            let with_ext = |dir: &Path, file: String| (dir.join(&file), dir.join(format!("{file}_sym")));
+            let pair = match self.layout {
+                Layout::Shrec16 => {
+                    let Some((class, index)) = parse_pair_name(&name) else { continue };
+                    let (gt, gt_sym) = with_ext(&self.partial_dir, format!("{name}.baryc_gt"));
+                    Pair { full: null.join(format!("{class}.off")), gt, gt_sym, gt_kind: GroundTruthKind::Barycentric, partial: path, name, class, index }
+                }
+                Layout::Pfarm => {
+                    let full = template.clone().unwrap_or_default();
+                    let class = stem(&full).unwrap_or_default();
+                    let (gt, gt_sym) = with_ext(&self.root.join("gt"), format!("{name}_{class}.vertex_gt"));
+                    Pair { full, gt, gt_sym, gt_kind: GroundTruthKind::Vertices, partial: path, name, class, index: 0 }
+                }
+                Layout::Pfaust => {
+                    // tr_reg_<P><Q> against tr_reg_<P>0: the last digit is the pose.
+                    let Some(person) = name.strip_suffix(|c: char| c.is_ascii_digit()) else { continue };
+                    let class = format!("{person}0");
+                    let (gt, gt_sym) = with_ext(&self.partial_dir, format!("{name}.vertex_gt"));
+                    Pair { full: null.join(format!("{class}.off")), gt, gt_sym, gt_kind: GroundTruthKind::Vertices, partial: path, name, class, index: 0 }
+                }
             };
-            let Some((class, index)) = parse_pair_name(&name) else {
-                continue;
-            };
-            pairs.push(Pair {
-                full: self.root.join("null").join(format!("{class}.off")),
-                gt: self.partial_dir.join(format!("{name}.baryc_gt")),
-                gt_sym: self.partial_dir.join(format!("{name}.baryc_gt_sym")),
-                partial: path,
-                name,
-                class,
-                index,
-            });
+            pairs.push(pair);
         }
         pairs.sort_by(|a, b| (&a.class, a.index, &a.name).cmp(&(&b.class, b.index, &b.name)));
         Ok(pairs)
@@ -336,9 +399,55 @@ pub fn read_full_shape(path: &Path) -> Result<(TriMesh, Vec<Vec<u32>>)> {
     Ok((mesh, groups))
 }
 
+/// Parse a `.vertex_gt` / `.vertex_gt_sym` file: one 0-based vertex index of the full
+/// shape per line (blank lines ignored).
+pub fn parse_vertex_gt(text: &str, path: &Path) -> Result<Vec<u32>> {
+    let mut rows = Vec::new();
+    for (lineno, line) in text.lines().enumerate() {
+        let field = line.trim();
+        if field.is_empty() {
+            continue;
+        }
+        let v = field.parse::<u32>().map_err(|_| {
+            let shown: String = field.chars().take(40).collect();
+            parse_err(path, format!("line {}: '{shown}' is not a vertex index (0-based, one per line)", lineno + 1))
+        })?;
+        rows.push(v);
+    }
+    if rows.is_empty() {
+        return Err(parse_err(path, "no ground-truth rows"));
+    }
+    Ok(rows)
+}
+
+/// Ground-truth mask over the vertices of a full shape read from a file, for a region
+/// given as the file's vertices: every mesh vertex read from a listed file vertex is
+/// marked. A listed vertex out of the file's range is an error naming it.
+pub fn vertex_mask_in_file(full: &TriMesh, report: &ReadReport, region: &[u32], path: &Path) -> Result<Vec<bool>> {
+    let mut listed = vec![false; report.file_vertices];
+    for (r, &v) in region.iter().enumerate() {
+        match listed.get_mut(v as usize) {
+            Some(l) => *l = true,
+            None => {
+                return Err(parse_err(
+                    path,
+                    format!("line {}: vertex {v} is out of range (the full shape's file has {} vertices; indices are 0-based)", r + 1, report.file_vertices),
+                ))
+            }
+        }
+    }
+    let mut mask = vec![false; full.n_vertices()];
+    for (m, &f) in report.kept_vertices.iter().enumerate() {
+        if let (Some(out), Some(&l)) = (mask.get_mut(m), listed.get(f as usize)) {
+            *out = l;
+        }
+    }
+    Ok(mask)
+}
+
 impl Pair {
     /// Load both meshes and the ground truth. Errors name the missing or bad file; a
-    /// `.baryc_gt` must have one row per vertex of the partial shape.
+    /// `.baryc_gt` must have one row per vertex record of the partial shape's file.
     pub fn load(&self) -> Result<LoadedPair> {
         for p in [&self.full, &self.partial, &self.gt] {
             if !p.is_file() {
@@ -351,17 +460,27 @@ impl Pair {
                 });
             }
         }
-        let (full, report) = read_mesh_with_report(&self.full, &ReadOptions::default())?;
-        let partial = read_mesh(&self.partial)?;
+        // Scans keep loose points: dropped, and the ground truth follows the index map.
+        let read = ReadOptions { drop_isolated: true, ..ReadOptions::default() };
+        let (full, full_report) = read_mesh_with_report(&self.full, &read)?;
+        let (partial, partial_report) = read_mesh_with_report(&self.partial, &read)?;
         let load_gt = |path: &Path| -> Result<Vec<bool>> {
-            let rows = read_barycentric_gt(path)?;
-            if rows.len() != partial.n_vertices() {
-                return Err(parse_err(
-                    path,
-                    format!("{} rows, but the partial shape has {} vertices (one row per vertex expected)", rows.len(), partial.n_vertices()),
-                ));
+            match self.gt_kind {
+                GroundTruthKind::Barycentric => {
+                    let rows = read_barycentric_gt(path)?;
+                    if rows.len() != partial_report.file_vertices {
+                        return Err(parse_err(
+                            path,
+                            format!("{} rows, but the partial shape's file has {} vertices (one row per vertex expected)", rows.len(), partial_report.file_vertices),
+                        ));
+                    }
+                    ground_truth_mask_in_file(&full, &full_report, &rows, path)
+                }
+                GroundTruthKind::Vertices => {
+                    let text = std::fs::read_to_string(path).map_err(|e| io_err(path, e))?;
+                    vertex_mask_in_file(&full, &full_report, &parse_vertex_gt(&text, path)?, path)
+                }
             }
-            ground_truth_mask_in_file(&full, &report, &rows, path)
         };
         let gt = load_gt(&self.gt)?;
         let gt_sym = if self.gt_sym.is_file() {
@@ -369,12 +488,7 @@ impl Pair {
         } else {
             None
         };
-        Ok(LoadedPair {
-            full,
-            partial,
-            gt,
-            gt_sym,
-        })
+        Ok(LoadedPair { full, partial, gt, gt_sym, full_report, partial_report })
     }
 }
 
@@ -436,12 +550,65 @@ pub fn write_shrec16_pair(
         partial: partial_path,
         gt: gt_path,
         gt_sym: sym_path,
+        gt_kind: GroundTruthKind::Barycentric,
     })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn vertex_rows_parse_and_reject_bad_lines() {
+        let p = Path::new("t.vertex_gt");
+        assert_eq!(parse_vertex_gt("2\n\n 0 \n7\n", p).unwrap(), vec![2, 0, 7]);
+        for bad in ["", "1 2\n", "-1\n", "x\n", "1.5\n"] {
+            assert!(matches!(parse_vertex_gt(bad, p), Err(Error::Parse { .. })), "{bad:?}");
+        }
+    }
+
+    /// A PFARM and a PFAUST folder with one pair each are told apart and loaded, the
+    /// vertex ground truth following the reader's index map (a loose file vertex dropped).
+    #[test]
+    fn pfarm_and_pfaust_layouts_list_and_load_their_pairs() {
+        let dir = std::env::temp_dir().join(format!("ds-layouts-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        // Full: a loose vertex 0, then a square (1..=4) of two triangles.
+        let full = "OFF\n5 2 0\n9 9 9\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 1 2 3\n3 1 3 4\n";
+        let partial = "OFF\n3 1 0\n0 0 0\n1 0 0\n1 1 0\n3 0 1 2\n";
+        let write = |rel: &str, text: &str| {
+            let path = dir.join(rel);
+            std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+            std::fs::write(path, text).unwrap();
+        };
+        write("pfarm/null/tpl.off", full);
+        write("pfarm/cuts/cut-1--a.off", partial);
+        write("pfarm/gt/cut-1--a_tpl.vertex_gt", "1\n2\n3\n");
+        write("pfaust/null/tr_reg_030.off", full);
+        write("pfaust/partials/tr_reg_034.off", partial);
+        write("pfaust/partials/tr_reg_034.vertex_gt", "2\n3\n4\n");
+        write("pfaust/partials/tr_reg_034.vertex_gt_sym", "1\n3\n4\n");
+        let pfarm = Dataset::open(dir.join("pfarm")).unwrap();
+        assert_eq!(pfarm.layout(), Layout::Pfarm);
+        let pairs = pfarm.pairs().unwrap();
+        assert_eq!(pairs.len(), 1);
+        assert_eq!((pairs[0].name.as_str(), pairs[0].class.as_str()), ("cut-1--a", "tpl"));
+        let data = pairs[0].load().unwrap();
+        assert_eq!(data.gt, vec![true, true, true, false]);
+        assert!(data.gt_sym.is_none());
+        let pfaust = Dataset::open(dir.join("pfaust")).unwrap();
+        assert_eq!(pfaust.layout(), Layout::Pfaust);
+        let pairs = pfaust.pairs().unwrap();
+        assert_eq!(pairs[0].full, dir.join("pfaust/null/tr_reg_030.off"));
+        let data = pairs[0].load().unwrap();
+        assert_eq!(data.gt, vec![false, true, true, true]);
+        assert_eq!(data.gt_sym, Some(vec![true, false, true, true]));
+        write("pfaust/partials/tr_reg_034.vertex_gt", "5\n");
+        let e = pairs[0].load().unwrap_err().to_string();
+        assert!(e.contains("vertex 5 is out of range"), "{e}");
+        assert!(Dataset::open(dir.join("nowhere")).is_err());
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 
     #[test]
     fn pair_names() {
@@ -514,8 +681,8 @@ mod tests {
     fn open_rejects_non_dataset_folders() {
         let dir = std::env::temp_dir().join(format!("ds_eval_open_{}", std::process::id()));
         let _ = std::fs::create_dir_all(&dir);
-        assert!(Shrec16::open(dir.join("missing")).is_err());
-        assert!(Shrec16::open(&dir)
+        assert!(Dataset::open(dir.join("missing")).is_err());
+        assert!(Dataset::open(&dir)
             .unwrap_err()
             .to_string()
             .contains("null/"));
