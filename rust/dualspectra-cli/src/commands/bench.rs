@@ -80,6 +80,26 @@ pub struct PairResult {
     pub error: Option<String>,
     /// The region (0-based vertex indices of the full shape).
     pub region: Vec<usize>,
+    /// Index of the chosen candidate in `candidates`.
+    pub selected: usize,
+    /// Every candidate the localizer scored, with its IoU against the ground truth (for
+    /// studies of the choice and of confidence measures from the JSON).
+    pub candidates: Vec<CandidateLog>,
+}
+
+/// One candidate of a pair: the localizer's scores and how good it was.
+#[derive(Debug, Clone, Serialize)]
+pub struct CandidateLog {
+    pub label: String,
+    pub cost: f64,
+    #[serde(flatten)]
+    pub scores: dualspectra::selection::CandidateScore,
+    pub region_size: usize,
+    /// Against the ground truth, direct and symmetry-aware.
+    pub iou: f64,
+    pub iou_sym: f64,
+    /// Against the chosen candidate's region.
+    pub iou_with_chosen: f64,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -151,6 +171,23 @@ fn run_pair(
         None => (scores, Match::Direct),
     };
     let area_iou = metrics::weighted_scores(&loc.region, &data.gt, &lumped_mass(&data.full))?.iou;
+    let mut candidates = Vec::with_capacity(loc.candidates.len());
+    for c in &loc.candidates {
+        let iou = metrics::scores(&c.region, &data.gt)?.iou;
+        let iou_sym = match &data.gt_sym {
+            Some(sym) => metrics::symmetry_aware(&c.region, &data.gt, sym, None)?.0.iou,
+            None => iou,
+        };
+        candidates.push(CandidateLog {
+            label: c.label.clone(),
+            cost: c.cost,
+            scores: c.scores,
+            region_size: c.region.iter().filter(|&&b| b).count(),
+            iou,
+            iou_sym,
+            iou_with_chosen: metrics::scores(&c.region, &loc.region)?.iou,
+        });
+    }
     Ok(PairResult {
         name: pair.name.clone(),
         class: pair.class.clone(),
@@ -165,6 +202,8 @@ fn run_pair(
         timings: Timings { preparation: seconds - loc.timings.total, ..loc.timings.clone() },
         error: None,
         region: region_indices(&loc.region),
+        selected: loc.selected_start,
+        candidates,
     })
 }
 
@@ -317,6 +356,8 @@ fn run_set(dataset: &Dataset, pairs: &[Pair], options: &Options, quiet: bool) ->
             timings: Timings::default(),
             error: Some(e.to_string().split_whitespace().collect::<Vec<_>>().join(" ")),
             region: vec![],
+            selected: 0,
+            candidates: vec![],
         });
         if matches!(r.error.as_deref(), Some("cancelled")) {
             bar.finish_and_clear();
@@ -532,6 +573,8 @@ mod tests {
             timings: Timings { optimisation: 2.5, total: 3.0, ..Timings::default() },
             error: None,
             region: vec![0],
+            selected: 0,
+            candidates: vec![],
         };
         let bad = PairResult {
             error: Some("x".into()),

@@ -183,7 +183,9 @@ fn check_radius(radius: f64) -> Result<()> {
     }
 }
 
-/// Descriptors and frames of `keypoints` (indices into `points`), in parallel.
+/// Descriptors and frames of `keypoints` (indices into `points`), in parallel, each with
+/// its support among `points` (thinned to [`MAX_SUPPORT_CLOUD`] points, see
+/// [`support_cloud`]).
 fn describe_keypoints(
     points: &[[f64; 3]],
     normals: &[[f64; 3]],
@@ -191,15 +193,24 @@ fn describe_keypoints(
     radius: f64,
     min_neighbors: usize,
 ) -> Result<Shot> {
-    let tree = KdTree::new(points)?;
+    let cloud = support_cloud(points, radius, MAX_SUPPORT_CLOUD);
+    let (cloud_points, cloud_normals): (Vec<[f64; 3]>, Vec<[f64; 3]>) = match &cloud {
+        Some(kept) => kept.iter().map(|&i| (points[i as usize], normals[i as usize])).unzip(),
+        None => (Vec::new(), Vec::new()),
+    };
+    let (support_points, support_normals) = match cloud {
+        Some(_) => (cloud_points.as_slice(), cloud_normals.as_slice()),
+        None => (points, normals),
+    };
+    let tree = KdTree::new(support_points)?;
     let mut flat = vec![0.0f64; keypoints.len() * SHOT_DIM];
     let frames: Vec<Option<LocalFrame>> = flat
         .par_chunks_mut(SHOT_DIM)
         .zip(keypoints.par_iter())
         .map_init(Vec::new, |buf, (row, &i)| {
-            let i = i as usize;
-            tree.within_radius_into(points[i], radius, buf);
-            describe(points, normals, i, buf, radius, min_neighbors, row)
+            let p = points[i as usize];
+            tree.within_radius_into(p, radius, buf);
+            describe(support_points, support_normals, p, buf, radius, min_neighbors, row)
         })
         .collect();
     let descriptors = Mat::from_fn(keypoints.len(), SHOT_DIM, |i, j| flat[i * SHOT_DIM + j]);
@@ -209,17 +220,53 @@ fn describe_keypoints(
     })
 }
 
+/// Most points a SHOT support cloud holds. A vertex's support is every cloud point within
+/// the radius, so dense scans (a face scanned at 10x the density of the rest) cost the
+/// square of their local density; above this many points the support comes from a
+/// uniform thinning of the cloud instead (see [`support_cloud`]). At or below it (every
+/// SHREC'16 shape) the support is every vertex, as in the reference implementation.
+pub const MAX_SUPPORT_CLOUD: usize = 12_000;
+
+/// The points of a uniform thinning of `points` when there are more than `max_points`,
+/// else `None` (use them all): one point per cell of a cubic grid, the one nearest the
+/// cell's centre (ties by index), with the cell edge grown by 1.25x from `radius / 16`
+/// until at most `max_points` remain. Indices increasing; deterministic.
+pub fn support_cloud(points: &[[f64; 3]], radius: f64, max_points: usize) -> Option<Vec<u32>> {
+    use std::collections::HashMap;
+    if points.len() <= max_points || max_points == 0 {
+        return None;
+    }
+    let mut h = radius / 16.0;
+    loop {
+        let mut best: HashMap<[i64; 3], (f64, u32)> = HashMap::new();
+        for (i, p) in points.iter().enumerate() {
+            let cell = p.map(|c| (c / h).floor() as i64);
+            let centre = [0, 1, 2].map(|d| (cell[d] as f64 + 0.5) * h);
+            let d2 = (0..3).map(|d| (p[d] - centre[d]).powi(2)).sum::<f64>();
+            let e = best.entry(cell).or_insert((f64::INFINITY, u32::MAX));
+            if d2 < e.0 {
+                *e = (d2, i as u32);
+            }
+        }
+        if best.len() <= max_points {
+            let mut kept: Vec<u32> = best.into_values().map(|(_, i)| i).collect();
+            kept.sort_unstable();
+            return Some(kept);
+        }
+        h *= 1.25;
+    }
+}
+
 /// One vertex: frame, histogram into `row` (already zero), normalisation.
 fn describe(
     points: &[[f64; 3]],
     normals: &[[f64; 3]],
-    i: usize,
+    p: [f64; 3],
     found: &[(u32, f64)],
     radius: f64,
     min_neighbors: usize,
     row: &mut [f64],
 ) -> Option<LocalFrame> {
-    let p = points[i];
     // Support without the vertex itself (and without coincident points): (offset, distance).
     let mut support: Vec<([f64; 3], f64, u32)> = found
         .iter()
@@ -420,6 +467,54 @@ fn norm(a: [f64; 3]) -> f64 {
 
 #[cfg(test)]
 mod tests {
+
+    /// The thinned support: at most the bound, spread over the shape (no cell of the
+    /// bounding grid empty where the shape is), `None` under the bound; descriptors with
+    /// thinned support stay close to the full-support ones (a bumpy sphere, so that
+    /// histograms differ from vertex to vertex).
+    #[test]
+    fn thinned_support_is_bounded_uniform_and_keeps_descriptors_close() {
+        let sphere = crate::mesh::generate::icosphere(5);
+        let mesh = sphere
+            .map_positions(|p| {
+                let bump = 1.0 + 0.15 * (3.0 * p[0]).sin() * (2.0 * p[1]).cos();
+                p.map(|c| c * bump)
+            })
+            .unwrap();
+        let points = mesh.vertices();
+        assert!(support_cloud(points, 0.5, points.len()).is_none());
+        let kept = support_cloud(points, 0.5, 3000).unwrap();
+        assert!(kept.len() <= 3000 && kept.len() > 1500, "{}", kept.len());
+        assert!(kept.windows(2).all(|w| w[0] < w[1]));
+        // Every vertex has a kept point within a few grid cells.
+        let tree = KdTree::new(&kept.iter().map(|&i| points[i as usize]).collect::<Vec<_>>()).unwrap();
+        let worst = points.iter().map(|&p| tree.nearest(p).1).fold(0.0f64, f64::max).sqrt();
+        assert!(worst < 0.1, "farthest vertex from the cloud: {worst}");
+        let normals = vertex_normals(&mesh);
+        let all: Vec<u32> = (0..points.len() as u32).collect();
+        let full = describe_keypoints(points, &normals, &all, 0.5, 3).unwrap().descriptors;
+        let thinned = {
+            let cloud: Vec<[f64; 3]> = kept.iter().map(|&i| points[i as usize]).collect();
+            let cloud_n: Vec<[f64; 3]> = kept.iter().map(|&i| normals[i as usize]).collect();
+            let tree = KdTree::new(&cloud).unwrap();
+            let mut rows = Mat::<f64>::zeros(points.len(), SHOT_DIM);
+            let mut buf = Vec::new();
+            let mut row = vec![0.0; SHOT_DIM];
+            for (i, &p) in points.iter().enumerate() {
+                row.iter_mut().for_each(|v| *v = 0.0);
+                tree.within_radius_into(p, 0.5, &mut buf);
+                describe(&cloud, &cloud_n, p, &buf, 0.5, 3, &mut row);
+                row.iter().enumerate().for_each(|(c, &v)| rows[(i, c)] = v);
+            }
+            rows
+        };
+        let cosine: f64 = (0..points.len())
+            .map(|i| (0..SHOT_DIM).map(|c| full[(i, c)] * thinned[(i, c)]).sum::<f64>())
+            .sum::<f64>()
+            / points.len() as f64;
+        assert!(cosine > 0.9, "mean cosine of full and thinned-support descriptors {cosine}");
+    }
+
     use super::*;
 
     #[test]
@@ -464,7 +559,7 @@ mod tests {
                 )
             })
             .collect();
-        let f = describe(&points, &normals, 0, &found, 1.0, 3, &mut row).unwrap();
+        let f = describe(&points, &normals, points[0], &found, 1.0, 3, &mut row).unwrap();
         assert_eq!(f.support, 3);
         let l2: f64 = row.iter().map(|v| v * v).sum();
         assert!((l2 - 1.0).abs() < 1e-14);

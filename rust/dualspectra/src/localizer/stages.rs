@@ -21,6 +21,13 @@ use std::time::Instant;
 /// (docs/algorithm.md, "Relaxation"), one height per spectrum on one shared $w$.
 pub const STEP_HEIGHT_FACTOR: f64 = 50.0;
 
+/// Partials with more vertices are decimated to about this many (quadric collapse, the
+/// boundary kept vertex for vertex) before their spectra and descriptors: dense scans
+/// (PFARM: up to 27k vertices) then cost what a SHREC'16 partial costs. The low
+/// Dirichlet eigenvalues the method matches change little under this coarsening
+/// (docs/benchmarks/real-partials-2026-12-01.md); every SHREC'16 partial is below it.
+pub const MAX_PARTIAL_VERTICES: usize = 12_000;
+
 /// A vertex mask on the optimisation (coarse) mesh.
 #[derive(Debug, Clone, PartialEq)]
 struct CoarseMask(Vec<bool>);
@@ -205,7 +212,14 @@ fn target(loc: &Localizer, partial: &TriMesh) -> Result<Target> {
             partial.n_vertices()
         ));
     }
-    let scaled = component.map_positions(|p| p.map(|c| c * loc.scale))?;
+    let mut scaled = component.map_positions(|p| p.map(|c| c * loc.scale))?;
+    if scaled.n_vertices() > MAX_PARTIAL_VERTICES {
+        // If the collapse fails validation, the partial is used as it is (slower, not worse).
+        let fraction = MAX_PARTIAL_VERTICES as f64 / scaled.n_vertices() as f64;
+        if let Ok(coarser) = crate::mesh::decimate::decimate(&scaled, fraction) {
+            scaled = coarser.mesh;
+        }
+    }
     let area = scaled.area();
     if area > 1.1 {
         return Err(Error::InvalidArgument(format!(
