@@ -2,36 +2,73 @@
 //!
 //! Conventions, the same at every entry point:
 //! - Opaque handles (`ds_mesh`, `ds_options`, `ds_localizer`, `ds_result`) created by
-//!   `*_create`/`ds_localize` and released by `*_destroy` (which accept NULL).
+//!   `*_create`/`ds_localize` and released by `*_destroy`. A *handle argument* may be any
+//!   pointer: it is looked up in a registry of live handles before it is read (below); NULL, a
+//!   destroyed or foreign pointer, or a handle of another type is `DS_INVALID_ARGUMENT`
+//!   (getters: 0 or NULL, with the message; `*_destroy`: nothing happens). A handle must not be
+//!   destroyed while another thread is in a call on it.
 //! - Arrays are passed as a pointer plus an explicit element count; a pointer may be NULL only
 //!   when its count is 0. Indices are 0-based `uint32_t`. Strings are NUL-terminated UTF-8.
 //! - Every fallible function returns a `ds_status`; on failure `ds_last_error_message()` (per
 //!   thread) says why. Out-parameters are written only on success.
 //! - No Rust panic crosses the boundary: every body runs under `std::panic::catch_unwind`, a
 //!   panic becomes `DS_PANIC`. NULL pointers, misaligned pointers, wrong lengths and
-//!   out-of-range indices are reported as `DS_INVALID_ARGUMENT` / `DS_INVALID_MESH`.
+//!   out-of-range indices are reported as `DS_INVALID_ARGUMENT` / `DS_INVALID_MESH`; sizes
+//!   that cannot be allocated as `DS_OUT_OF_MEMORY` (below).
 //! - Options are a key/value handle whose names, ranges and docs are the core's table
 //!   (`ds_options_schema_json()`), so a new core option needs no change here.
 //! - A mesh made from a host's arrays (`ds_mesh_create_from_host`) goes through the core's
 //!   intake: every per-vertex array in or out is in the host's numbering.
 //!
 //! This file is conversion only: every computation is a call into the `dualspectra` crate.
+//!
+//! ## Handles: a registry of live ones
+//!
+//! Every handle made here is recorded (address -> type) in one process-wide registry
+//! (`LIVE`); every entry point looks a handle argument up there before dereferencing it, and
+//! `*_destroy` takes it out before releasing it. So a destroyed handle (use after destroy,
+//! double destroy), a pointer this library did not make, or a handle of another type (a
+//! `ds_mesh*` given as a `ds_result*`) is `DS_INVALID_ARGUMENT` (for `*_destroy`: nothing
+//! happens) with a message naming it, and is never read. A check word in each handle (magic +
+//! generation) was the other design; it would have to read the pointed-to memory to check it,
+//! which for a freed or foreign pointer is itself the undefined behaviour (a fault, or whatever
+//! was allocated there since); the registry needs only the address. The lock is held for the
+//! lookup only (a tree lookup, cheap next to any call's work), so one handle used from several
+//! threads at once keeps working. Limits: the address of a destroyed handle may be reused by a
+//! new handle of the same type, and the stale pointer then is that new handle
+//! (indistinguishable; of another type it is refused); destroying a handle while another thread
+//! is inside a call on it is still the caller's bug.
+//!
+//! ## Memory
+//!
+//! Rust aborts the process when an allocation fails, and `catch_unwind` cannot catch that. So
+//! before the core reads host arrays or allocates anything in proportion to host-given sizes,
+//! the sizes are checked for overflow and a lower bound of what the call will hold is reserved
+//! and released at once (`reserve`): a mesh's own arrays for `ds_mesh_create*`, eigenvectors
+//! and operators (`n (min(k, n) + c)` doubles) for `ds_spectrum`, `ds_localize` and
+//! `ds_localizer_create`/`_locate`. A reservation that fails is `DS_OUT_OF_MEMORY` with the size
+//! in the message. Best effort: it turns impossible requests (a mesh of 2^40 vertices) into an
+//! error, but cannot guard every allocation in the core, and an overcommitting kernel may grant
+//! a reservation the computation later cannot fill.
 
 #![allow(non_camel_case_types)]
 
 use crate::{metric_from_code, status_of, HostLocalizer, HostMesh};
 use dualspectra::{Error, Localization, Options, Progress};
 use std::cell::RefCell;
+use std::collections::BTreeMap;
 use std::ffi::{c_char, c_int, c_void, CStr, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
-use std::sync::{Mutex, OnceLock};
+use std::sync::{Mutex, MutexGuard, OnceLock, PoisonError};
 
 /// Status code returned by every fallible entry point (`DS_OK` = 0 on success).
 pub type ds_status = i32;
 /// Success.
 pub const DS_OK: ds_status = 0;
-/// A NULL/misaligned pointer, a wrong array length, an unknown metric, an unknown option or a
-/// value out of its range (the message names the option and its range).
+/// A NULL/misaligned pointer, a pointer that is not a live handle of the expected type
+/// (destroyed, not from this library, or a handle of another type), a wrong array length, an
+/// unknown metric, an unknown option or a value out of its range (the message names the
+/// option and its range).
 pub const DS_INVALID_ARGUMENT: ds_status = 1;
 /// The mesh arrays do not describe a valid triangle mesh (index out of range, non-manifold edge
 /// or vertex, non-finite coordinate; for `ds_mesh_create` also a degenerate face or a vertex in
@@ -45,6 +82,10 @@ pub const DS_CANCELLED: ds_status = 4;
 pub const DS_PANIC: ds_status = 5;
 /// A file could not be read or parsed.
 pub const DS_IO: ds_status = 6;
+/// The memory the call needs at least could not be reserved; the message names the size.
+/// Checked up front from the sizes given (best effort: a lower bound of what the call holds,
+/// not every allocation of the core), before anything is read or computed.
+pub const DS_OUT_OF_MEMORY: ds_status = 7;
 
 /// Which metric a spectrum is computed in.
 pub type ds_metric = u32;
@@ -130,14 +171,43 @@ fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
     }
 }
 
+/// Why an entry point failed: an error of the core or of the checks here, or memory that
+/// could not be reserved ([`reserve`]; the core's [`Error`] has no such case).
+enum Failure {
+    Core(Error),
+    OutOfMemory(String),
+}
+
+impl From<Error> for Failure {
+    fn from(e: Error) -> Self {
+        Failure::Core(e)
+    }
+}
+
+impl Failure {
+    fn status(&self) -> ds_status {
+        match self {
+            Failure::Core(e) => status_of(e),
+            Failure::OutOfMemory(_) => DS_OUT_OF_MEMORY,
+        }
+    }
+
+    fn message(&self) -> String {
+        match self {
+            Failure::Core(e) => e.to_string(),
+            Failure::OutOfMemory(m) => format!("out of memory: {m}"),
+        }
+    }
+}
+
 /// Run an entry point body: clear the thread's error, catch panics, map errors to codes.
-fn guard(body: impl FnOnce() -> Result<(), Error>) -> ds_status {
+fn guard(body: impl FnOnce() -> Result<(), Failure>) -> ds_status {
     set_last_error("");
     match catch_unwind(AssertUnwindSafe(body)) {
         Ok(Ok(())) => DS_OK,
         Ok(Err(e)) => {
-            set_last_error(&e.to_string());
-            status_of(&e)
+            set_last_error(&e.message());
+            e.status()
         }
         Err(payload) => {
             set_last_error(&format!("internal error (panic caught at the C boundary): {}", panic_message(&*payload)));
@@ -157,17 +227,15 @@ fn guard_value<T>(fallback: T, body: impl FnOnce() -> T) -> T {
     }
 }
 
-fn invalid(msg: impl Into<String>) -> Error {
-    Error::InvalidArgument(msg.into())
+fn invalid(msg: impl Into<String>) -> Failure {
+    Failure::Core(Error::InvalidArgument(msg.into()))
 }
 
-/// Borrow `len` elements at `ptr`, checking NULL, alignment and size overflow.
-///
-/// # Safety
-/// If the checks pass, `ptr` must point to `len` initialised `T`s valid for the returned lifetime.
-unsafe fn slice_in<'a, T>(ptr: *const T, len: usize, what: &str) -> Result<&'a [T], Error> {
+/// Check an array argument of `len` elements without reading it: NULL (with `len > 0`),
+/// alignment, and a size in bytes that fits `isize`.
+fn check_array<T>(ptr: *const T, len: usize, what: &str) -> Result<(), Failure> {
     if len == 0 {
-        return Ok(&[]);
+        return Ok(());
     }
     if ptr.is_null() {
         return Err(invalid(format!("{what} is NULL but its length is {len}")));
@@ -178,6 +246,18 @@ unsafe fn slice_in<'a, T>(ptr: *const T, len: usize, what: &str) -> Result<&'a [
     if len > isize::MAX as usize / std::mem::size_of::<T>().max(1) {
         return Err(invalid(format!("{what}: length {len} is too large")));
     }
+    Ok(())
+}
+
+/// Borrow `len` elements at `ptr`, checking NULL, alignment and size overflow ([`check_array`]).
+///
+/// # Safety
+/// If the checks pass, `ptr` must point to `len` initialised `T`s valid for the returned lifetime.
+unsafe fn slice_in<'a, T>(ptr: *const T, len: usize, what: &str) -> Result<&'a [T], Failure> {
+    check_array(ptr, len, what)?;
+    if len == 0 {
+        return Ok(&[]);
+    }
     // SAFETY: non-null, aligned, size fits isize; validity of the memory is the caller's contract.
     Ok(unsafe { std::slice::from_raw_parts(ptr, len) })
 }
@@ -186,7 +266,7 @@ unsafe fn slice_in<'a, T>(ptr: *const T, len: usize, what: &str) -> Result<&'a [
 ///
 /// # Safety
 /// As [`slice_in`], and the memory must not be aliased during the call.
-unsafe fn slice_out<'a, T>(ptr: *mut T, len: usize, what: &str) -> Result<&'a mut [T], Error> {
+unsafe fn slice_out<'a, T>(ptr: *mut T, len: usize, what: &str) -> Result<&'a mut [T], Failure> {
     // SAFETY: same checks; exclusivity is the caller's contract.
     unsafe { slice_in(ptr as *const T, len, what)? };
     if len == 0 {
@@ -195,26 +275,11 @@ unsafe fn slice_out<'a, T>(ptr: *mut T, len: usize, what: &str) -> Result<&'a mu
     Ok(unsafe { std::slice::from_raw_parts_mut(ptr, len) })
 }
 
-/// Dereference a handle, checking NULL and alignment.
-///
-/// # Safety
-/// A non-NULL `ptr` must come from this library and not have been destroyed.
-unsafe fn handle<'a, T>(ptr: *const T, what: &str) -> Result<&'a T, Error> {
-    if ptr.is_null() {
-        return Err(invalid(format!("{what} is NULL")));
-    }
-    if !(ptr as usize).is_multiple_of(std::mem::align_of::<T>()) {
-        return Err(invalid(format!("{what} is not a valid handle (misaligned)")));
-    }
-    // SAFETY: caller's contract.
-    Ok(unsafe { &*ptr })
-}
-
 /// Write `value` to an out-pointer, checking NULL and alignment.
 ///
 /// # Safety
 /// A non-NULL `ptr` must be valid for writes of one `T`.
-unsafe fn write_out<T>(ptr: *mut T, value: T, what: &str) -> Result<(), Error> {
+unsafe fn write_out<T>(ptr: *mut T, value: T, what: &str) -> Result<(), Failure> {
     if ptr.is_null() {
         return Err(invalid(format!("{what} is NULL")));
     }
@@ -226,8 +291,58 @@ unsafe fn write_out<T>(ptr: *mut T, value: T, what: &str) -> Result<(), Error> {
     Ok(())
 }
 
-fn checked_mul3(n: usize, what: &str) -> Result<usize, Error> {
+fn checked_mul3(n: usize, what: &str) -> Result<usize, Failure> {
     n.checked_mul(3).ok_or_else(|| invalid(format!("{what} = {n} overflows")))
+}
+
+// ---------------------------------------------------------------------------------------------
+// Memory: what cannot be reserved is refused before the core allocates it (module doc)
+
+/// Doubles per vertex that operators take at least (stiffness in CSR, mass, curvature, the
+/// factorization's share), beside a computation's eigenvectors.
+const OPERATOR_DOUBLES: usize = 16;
+
+/// Bytes that building a mesh of `n_vertices` and `n_faces` holds at least: the core's copy
+/// of the arrays (24 bytes per vertex, 12 per face) and the edge buckets of its validation
+/// (8 per vertex, 12 per face). `None` on overflow.
+fn mesh_bytes(n_vertices: usize, n_faces: usize) -> Option<usize> {
+    n_vertices.checked_mul(32)?.checked_add(n_faces.checked_mul(24)?)
+}
+
+/// Bytes that a computation of `k` eigenpairs on a mesh of `n` vertices holds at least: the
+/// eigenvectors (`min(k, n)` of `n` doubles; the core refuses `k >= n` before computing) and
+/// [`OPERATOR_DOUBLES`] per vertex. `k = 0`: the operators alone. `None` on overflow.
+fn eigen_bytes(n: usize, k: usize) -> Option<usize> {
+    n.checked_mul(k.min(n).checked_add(OPERATOR_DOUBLES)?)?.checked_mul(8)
+}
+
+/// The sum of estimates, `None` if one is or the sum overflows.
+fn sum_bytes(parts: &[Option<usize>]) -> Option<usize> {
+    parts.iter().try_fold(0usize, |total, &part| total.checked_add(part?))
+}
+
+fn human_bytes(bytes: usize) -> String {
+    let units = ["bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"];
+    let (mut x, mut unit) = (bytes as f64, 0);
+    while x >= 1024.0 && unit + 1 < units.len() {
+        x /= 1024.0;
+        unit += 1;
+    }
+    format!("{x:.1} {}", units[unit])
+}
+
+/// Reserve `bytes` and release them at once, to learn whether the call can have them before
+/// the core allocates (where a failure aborts the process): `DS_OUT_OF_MEMORY` naming the size
+/// and `what` needs it if not, or if the estimate overflowed (`None`). Cheap: the pages are
+/// never touched.
+fn reserve(bytes: Option<usize>, what: impl FnOnce() -> String) -> Result<(), Failure> {
+    let Some(bytes) = bytes else {
+        return Err(Failure::OutOfMemory(format!("{} needs more bytes than the address space has", what())));
+    };
+    let mut probe = Vec::<u8>::new();
+    probe
+        .try_reserve_exact(bytes)
+        .map_err(|_| Failure::OutOfMemory(format!("cannot reserve {bytes} bytes ({}) for {}", human_bytes(bytes), what())))
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -267,6 +382,7 @@ pub extern "C" fn ds_status_name(status: ds_status) -> *const c_char {
         DS_CANCELLED => c"DS_CANCELLED",
         DS_PANIC => c"DS_PANIC",
         DS_IO => c"DS_IO",
+        DS_OUT_OF_MEMORY => c"DS_OUT_OF_MEMORY",
         _ => c"DS_UNKNOWN_STATUS",
     }
     .as_ptr()
@@ -276,7 +392,7 @@ pub extern "C" fn ds_status_name(status: ds_status) -> *const c_char {
 ///
 /// # Safety
 /// A non-NULL `ptr` must point to a NUL-terminated string valid for the returned lifetime.
-unsafe fn str_in<'a>(ptr: *const c_char, what: &str) -> Result<&'a str, Error> {
+unsafe fn str_in<'a>(ptr: *const c_char, what: &str) -> Result<&'a str, Failure> {
     if ptr.is_null() {
         return Err(invalid(format!("{what} is NULL")));
     }
@@ -288,43 +404,153 @@ fn c_string(text: &str) -> CString {
     CString::new(text.replace('\0', " ")).unwrap_or_default()
 }
 
-/// Write a new handle to `out`, or drop it if `out` cannot take it.
+// ---------------------------------------------------------------------------------------------
+// Handles: the registry of live ones (module doc)
+
+/// The types handed to C as opaque handles, as the registry records them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    Mesh,
+    Options,
+    Localizer,
+    Result,
+}
+
+impl Kind {
+    fn name(self) -> &'static str {
+        match self {
+            Kind::Mesh => "ds_mesh",
+            Kind::Options => "ds_options",
+            Kind::Localizer => "ds_localizer",
+            Kind::Result => "ds_result",
+        }
+    }
+}
+
+/// A type handed to C as an opaque handle.
+trait Handle {
+    const KIND: Kind;
+}
+
+impl Handle for ds_mesh {
+    const KIND: Kind = Kind::Mesh;
+}
+impl Handle for ds_options {
+    const KIND: Kind = Kind::Options;
+}
+impl Handle for ds_localizer {
+    const KIND: Kind = Kind::Localizer;
+}
+impl Handle for ds_result {
+    const KIND: Kind = Kind::Result;
+}
+
+/// The live handles: address -> type. An address is inserted by [`write_handle`] when its
+/// handle is made and removed by [`destroy`] before it is released, so a registered address
+/// always points to a live handle of the recorded type.
+static LIVE: Mutex<BTreeMap<usize, Kind>> = Mutex::new(BTreeMap::new());
+
+fn live() -> MutexGuard<'static, BTreeMap<usize, Kind>> {
+    // Poisoning: a panic cannot leave the map half-updated (each insert/remove is whole).
+    LIVE.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// Whether `ptr` is registered in `live` as a `T`; `what` names the argument in the message.
+fn check_live<T: Handle>(live: &BTreeMap<usize, Kind>, ptr: *const T, what: &str) -> Result<(), Failure> {
+    if ptr.is_null() {
+        return Err(invalid(format!("{what} is NULL")));
+    }
+    match live.get(&(ptr as usize)) {
+        Some(&kind) if kind == T::KIND => Ok(()),
+        Some(&kind) => Err(invalid(format!("{what} is a {} handle, not a {}", kind.name(), T::KIND.name()))),
+        None => Err(invalid(format!(
+            "{what} ({ptr:p}) is not a live {} handle (destroyed already, or not made by this library)",
+            T::KIND.name()
+        ))),
+    }
+}
+
+/// Dereference a handle after looking it up in the registry (NULL, destroyed, foreign and
+/// other-type pointers are refused without being read).
+///
+/// # Safety
+/// No other thread may destroy the handle while the returned reference is in use.
+unsafe fn handle<'a, T: Handle>(ptr: *const T, what: &str) -> Result<&'a T, Failure> {
+    check_live(&live(), ptr, what)?;
+    // SAFETY: registered, so made by `write_handle` from a `Box<T>` and not yet destroyed.
+    Ok(unsafe { &*ptr })
+}
+
+/// A getter's body on a handle: `f` of it, or `fallback` for a pointer [`handle`] refuses (the
+/// reason then is the thread's last error) or a panic.
+///
+/// # Safety
+/// As [`handle`].
+unsafe fn get<T: Handle, R: Copy>(ptr: *const T, what: &str, fallback: R, f: impl FnOnce(&T) -> R) -> R {
+    guard_value(fallback, || match unsafe { handle(ptr, what) } {
+        Ok(h) => f(h),
+        Err(e) => {
+            set_last_error(&e.message());
+            fallback
+        }
+    })
+}
+
+/// Make a handle of `value`, register it and write it to `out`; drop it if `out` cannot take it.
 ///
 /// # Safety
 /// As [`write_out`].
-unsafe fn write_handle<T>(out: *mut *mut T, value: T) -> Result<(), Error> {
+unsafe fn write_handle<T: Handle>(out: *mut *mut T, value: T) -> Result<(), Failure> {
     let h = Box::into_raw(Box::new(value));
+    live().insert(h as usize, T::KIND);
     // SAFETY: caller's contract.
     let written = unsafe { write_out(out, h, "out") };
     if written.is_err() {
+        live().remove(&(h as usize));
         // SAFETY: `h` was just made by `Box::into_raw` and given to no one.
         drop(unsafe { Box::from_raw(h) });
     }
     written
 }
 
-/// Release a handle made by [`write_handle`] (NULL is ignored).
+/// Release a handle made by [`write_handle`]. NULL is ignored; a pointer that is not a live
+/// `T` (destroyed already, foreign, another type) is left alone, and `function` names it in
+/// the thread's last error.
 ///
 /// # Safety
-/// `ptr` must be NULL or a handle of type `T` from this library, not yet destroyed.
-unsafe fn destroy<T>(ptr: *mut T) {
-    if !ptr.is_null() {
-        // SAFETY: caller's contract.
-        let _ = catch_unwind(AssertUnwindSafe(|| drop(unsafe { Box::from_raw(ptr) })));
+/// No other thread may be using the handle.
+unsafe fn destroy<T: Handle>(ptr: *mut T, function: &str) {
+    if ptr.is_null() {
+        return;
     }
+    let _ = catch_unwind(AssertUnwindSafe(|| {
+        let registered = {
+            let mut live = live();
+            check_live(&live, ptr, "the handle").map(|()| live.remove(&(ptr as usize)))
+        };
+        match registered {
+            // SAFETY: it was registered, so made by `write_handle` from a `Box<T>`; it left the
+            // registry under the lock just now, so it is released once.
+            Ok(_) => drop(unsafe { Box::from_raw(ptr) }),
+            Err(e) => set_last_error(&format!("{function}: {}; nothing was released", e.message())),
+        }
+    }));
 }
 
 // ---------------------------------------------------------------------------------------------
 // Meshes
 
-/// Borrow the flat arrays of a mesh.
+/// Borrow the flat arrays of a mesh, after checking their sizes for overflow and reserving
+/// what the core's copy of them takes ([`mesh_bytes`]): nothing is read before both pass.
 ///
 /// # Safety
 /// As `ds_mesh_create`.
-unsafe fn mesh_arrays<'a>(xyz: *const f64, n_vertices: usize, tri: *const u32, n_faces: usize) -> Result<(&'a [f64], &'a [u32]), Error> {
-    let v = unsafe { slice_in(xyz, checked_mul3(n_vertices, "n_vertices")?, "xyz")? };
-    let f = unsafe { slice_in(tri, checked_mul3(n_faces, "n_faces")?, "tri")? };
-    Ok((v, f))
+unsafe fn mesh_arrays<'a>(xyz: *const f64, n_vertices: usize, tri: *const u32, n_faces: usize) -> Result<(&'a [f64], &'a [u32]), Failure> {
+    let (n_xyz, n_tri) = (checked_mul3(n_vertices, "n_vertices")?, checked_mul3(n_faces, "n_faces")?);
+    check_array(xyz, n_xyz, "xyz")?;
+    check_array(tri, n_tri, "tri")?;
+    reserve(mesh_bytes(n_vertices, n_faces), || format!("a mesh of {n_vertices} vertices and {n_faces} faces"))?;
+    Ok((unsafe { slice_in(xyz, n_xyz, "xyz")? }, unsafe { slice_in(tri, n_tri, "tri")? }))
 }
 
 /// Create a mesh from `n_vertices` positions `xyz[3*i .. 3*i+3]` and `n_faces` triangles
@@ -332,6 +558,7 @@ unsafe fn mesh_arrays<'a>(xyz: *const f64, n_vertices: usize, tri: *const u32, n
 /// success `*out` receives a handle to release with `ds_mesh_destroy`.
 ///
 /// Errors: `DS_INVALID_ARGUMENT` (NULL/misaligned pointers, overflowing counts),
+/// `DS_OUT_OF_MEMORY` (counts too large to hold the mesh: checked before the arrays are read),
 /// `DS_INVALID_MESH` (index out of range, repeated/degenerate face, non-manifold edge or
 /// vertex, vertex in no face, non-finite coordinate, no faces).
 ///
@@ -388,47 +615,50 @@ pub unsafe extern "C" fn ds_mesh_create_from_host(
     })
 }
 
-/// Release a mesh (NULL is ignored).
+/// Release a mesh. NULL is ignored; a pointer that is not a live `ds_mesh` (destroyed
+/// already, not from this library, another handle type) is left alone and named in
+/// `ds_last_error_message` (a second destroy does nothing).
 ///
 /// # Safety
-/// `mesh` must be NULL or a handle from `ds_mesh_create*` not yet destroyed.
+/// `mesh` any pointer: only a live `ds_mesh` is released. No other thread may be in a
+/// call on it.
 #[no_mangle]
 pub unsafe extern "C" fn ds_mesh_destroy(mesh: *mut ds_mesh) {
-    unsafe { destroy(mesh) }
+    unsafe { destroy(mesh, "ds_mesh_destroy") }
 }
 
 /// Number of vertices in the host's numbering: the length of every per-vertex array of the
 /// mesh (the given `n_vertices`; 0 for NULL).
 ///
 /// # Safety
-/// `mesh` must be NULL or a live handle.
+/// `mesh` any pointer (a handle argument, checked).
 #[no_mangle]
 pub unsafe extern "C" fn ds_mesh_n_vertices(mesh: *const ds_mesh) -> usize {
-    guard_value(0, || unsafe { handle(mesh, "mesh") }.map(|m| m.mesh.n_vertices()).unwrap_or(0))
+    unsafe { get(mesh, "mesh", 0, |m| m.mesh.n_vertices()) }
 }
 
 /// Number of faces used (the given ones, less those the intake left out; 0 for NULL).
 ///
 /// # Safety
-/// `mesh` must be NULL or a live handle.
+/// `mesh` any pointer (a handle argument, checked).
 #[no_mangle]
 pub unsafe extern "C" fn ds_mesh_n_faces(mesh: *const ds_mesh) -> usize {
-    guard_value(0, || unsafe { handle(mesh, "mesh") }.map(|m| m.mesh.mesh().n_faces()).unwrap_or(0))
+    unsafe { get(mesh, "mesh", 0, |m| m.mesh.mesh().n_faces()) }
 }
 
 /// Number of vertices used (those of some used face; 0 for NULL).
 ///
 /// # Safety
-/// `mesh` must be NULL or a live handle.
+/// `mesh` any pointer (a handle argument, checked).
 #[no_mangle]
 pub unsafe extern "C" fn ds_mesh_n_used_vertices(mesh: *const ds_mesh) -> usize {
-    guard_value(0, || unsafe { handle(mesh, "mesh") }.map(|m| m.mesh.mesh().n_vertices()).unwrap_or(0))
+    unsafe { get(mesh, "mesh", 0, |m| m.mesh.mesh().n_vertices()) }
 }
 
 /// The host index of each used vertex, increasing (`out_len == ds_mesh_n_used_vertices`).
 ///
 /// # Safety
-/// `mesh` a live handle; `out` valid for `out_len` writes.
+/// `mesh` any pointer (a handle argument, checked); `out` valid for `out_len` writes.
 #[no_mangle]
 pub unsafe extern "C" fn ds_mesh_used_vertices(mesh: *const ds_mesh, out: *mut u32, out_len: usize) -> ds_status {
     guard(|| {
@@ -447,13 +677,10 @@ pub unsafe extern "C" fn ds_mesh_used_vertices(mesh: *const ds_mesh, out: *mut u
 /// or for a NULL mesh.
 ///
 /// # Safety
-/// `mesh` must be NULL or a live handle.
+/// `mesh` any pointer (a handle argument, checked).
 #[no_mangle]
 pub unsafe extern "C" fn ds_mesh_warning(mesh: *const ds_mesh) -> *const c_char {
-    guard_value(std::ptr::null(), || match unsafe { handle(mesh, "mesh") } {
-        Ok(m) => m.warning.as_ref().map_or(std::ptr::null(), |w| w.as_ptr()),
-        Err(_) => std::ptr::null(),
-    })
+    unsafe { get(mesh, "mesh", std::ptr::null(), |m| m.warning.as_ref().map_or(std::ptr::null(), |w| w.as_ptr())) }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -465,7 +692,7 @@ pub unsafe extern "C" fn ds_mesh_warning(mesh: *const ds_mesh) -> *const c_char 
 /// vertices the intake left out).
 ///
 /// # Safety
-/// `mesh` a live handle; `out` valid for `out_len` writes.
+/// `mesh` any pointer (a handle argument, checked); `out` valid for `out_len` writes.
 #[no_mangle]
 pub unsafe extern "C" fn ds_gaussian_curvature(mesh: *const ds_mesh, smoothed: c_int, out: *mut f64, out_len: usize) -> ds_status {
     guard(|| {
@@ -475,6 +702,9 @@ pub unsafe extern "C" fn ds_gaussian_curvature(mesh: *const ds_mesh, smoothed: c
             return Err(invalid(format!("out_len is {out_len}, the mesh has {n} vertices")));
         }
         let dst = unsafe { slice_out(out, out_len, "out")? };
+        let used = m.mesh.mesh().n_vertices();
+        // The curvature, the areas it divides by, and the copy in the host's numbering.
+        reserve(sum_bytes(&[used.checked_mul(16), n.checked_mul(8)]), || format!("the curvature of {n} vertices"))?;
         dst.copy_from_slice(&crate::gaussian_curvature(&m.mesh, smoothed != 0));
         Ok(())
     })
@@ -485,8 +715,11 @@ pub unsafe extern "C" fn ds_gaussian_curvature(mesh: *const ds_mesh, smoothed: c
 /// ignored for the regular metric). On a closed mesh there is no boundary and the first
 /// eigenvalue is 0. `out` must hold `out_len == k` doubles.
 ///
+/// Errors: `DS_INVALID_ARGUMENT` (unknown metric, `out_len != k`, `k` not in `1..` interior
+/// vertices), `DS_OUT_OF_MEMORY` (the eigenvectors cannot be held), `DS_NUMERICAL`.
+///
 /// # Safety
-/// `mesh` a live handle; `out` valid for `out_len` writes.
+/// `mesh` any pointer (a handle argument, checked); `out` valid for `out_len` writes.
 #[no_mangle]
 pub unsafe extern "C" fn ds_spectrum(
     mesh: *const ds_mesh,
@@ -503,9 +736,11 @@ pub unsafe extern "C" fn ds_spectrum(
             return Err(invalid(format!("out_len is {out_len}, expected k = {k}")));
         }
         let dst = unsafe { slice_out(out, out_len, "out")? };
+        let n = m.mesh.mesh().n_vertices();
+        reserve(eigen_bytes(n, k), || format!("{k} eigenpairs of a mesh of {n} vertices"))?;
         let values = crate::spectrum(&m.mesh, k, metric, alpha)?;
         if values.len() != k {
-            return Err(Error::Numerical(format!("eigensolver returned {} eigenvalues, expected {k}", values.len())));
+            return Err(Error::Numerical(format!("eigensolver returned {} eigenvalues, expected {k}", values.len())).into());
         }
         dst.copy_from_slice(&values);
         Ok(())
@@ -538,22 +773,25 @@ pub unsafe extern "C" fn ds_options_create(out: *mut *mut ds_options) -> ds_stat
     })
 }
 
-/// Release options (NULL is ignored).
+/// Release options. NULL is ignored; a pointer that is not a live `ds_options` (destroyed
+/// already, not from this library, another handle type) is left alone and named in
+/// `ds_last_error_message` (a second destroy does nothing).
 ///
 /// # Safety
-/// `options` must be NULL or a handle from `ds_options_create` not yet destroyed.
+/// `options` any pointer: only a live `ds_options` is released. No other thread may be in a
+/// call on it.
 #[no_mangle]
 pub unsafe extern "C" fn ds_options_destroy(options: *mut ds_options) {
-    unsafe { destroy(options) }
+    unsafe { destroy(options, "ds_options_destroy") }
 }
 
-/// Borrow a handle mutably, checking NULL and alignment.
+/// Borrow a handle mutably, after looking it up in the registry as [`handle`] does.
 ///
 /// # Safety
 /// A non-NULL `ptr` must come from this library, not be destroyed and not be in use elsewhere.
-unsafe fn handle_mut<'a, T>(ptr: *mut T, what: &str) -> Result<&'a mut T, Error> {
-    unsafe { handle(ptr as *const T, what)? };
-    // SAFETY: checked above; exclusivity is the caller's contract.
+unsafe fn handle_mut<'a, T: Handle>(ptr: *mut T, what: &str) -> Result<&'a mut T, Failure> {
+    check_live(&live(), ptr as *const T, what)?;
+    // SAFETY: registered (see `handle`); exclusivity is the caller's contract.
     Ok(unsafe { &mut *ptr })
 }
 
@@ -563,8 +801,8 @@ unsafe fn handle_mut<'a, T>(ptr: *mut T, what: &str) -> Result<&'a mut T, Error>
 /// unchanged.
 ///
 /// # Safety
-/// `options` a live handle not used by another thread during the call; `name` and `value`
-/// NUL-terminated strings.
+/// `options` any pointer (a handle argument, checked), not used by another thread during the
+/// call; `name` and `value` NUL-terminated strings.
 #[no_mangle]
 pub unsafe extern "C" fn ds_options_set(options: *mut ds_options, name: *const c_char, value: *const c_char) -> ds_status {
     guard(|| {
@@ -597,10 +835,10 @@ pub unsafe extern "C" fn ds_options_set_json(options: *mut ds_options, json_obje
 /// valid until the next `ds_options_set*` or `ds_options_destroy` on it. NULL for NULL.
 ///
 /// # Safety
-/// `options` must be NULL or a live handle.
+/// `options` any pointer (a handle argument, checked).
 #[no_mangle]
 pub unsafe extern "C" fn ds_options_json(options: *const ds_options) -> *const c_char {
-    guard_value(std::ptr::null(), || unsafe { handle(options, "options") }.map_or(std::ptr::null(), |o| o.json.as_ptr()))
+    unsafe { get(options, "options", std::ptr::null(), |o| o.json.as_ptr()) }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -633,13 +871,35 @@ fn progress_of(progress: ds_progress_fn, user: *mut c_void) -> Progress {
 /// The options of a possibly NULL handle (NULL: the defaults).
 ///
 /// # Safety
-/// `options` must be NULL or a live handle.
-unsafe fn options_in(options: *const ds_options) -> Result<Options, Error> {
+/// As [`handle`].
+unsafe fn options_in(options: *const ds_options) -> Result<Options, Failure> {
     if options.is_null() {
         Ok(Options::default())
     } else {
         Ok(unsafe { handle(options, "options")? }.options.clone())
     }
+}
+
+/// Vertices the potential is optimised on for a full mesh of `n` vertices: `n` decimated to
+/// the `resolution` option (0: not decimated).
+fn optimisation_vertices(n: usize, options: &Options) -> usize {
+    if options.resolution == 0 {
+        n
+    } else {
+        options.resolution.min(n)
+    }
+}
+
+/// Bytes that preparing a full mesh of `n` vertices holds at least ([`eigen_bytes`]): its
+/// operators, and `k` eigenpairs on the optimisation mesh.
+fn prepare_bytes(n: usize, options: &Options) -> Option<usize> {
+    sum_bytes(&[eigen_bytes(n, 0), eigen_bytes(optimisation_vertices(n, options), options.k)])
+}
+
+/// Bytes that locating a partial of `n_partial` vertices holds at least: `k` eigenpairs of the
+/// partial, and of the Hamiltonian on the optimisation mesh of `n_optimisation` vertices.
+fn locate_bytes(n_partial: usize, n_optimisation: usize, k: usize) -> Option<usize> {
+    sum_bytes(&[eigen_bytes(n_partial, k), eigen_bytes(n_optimisation, k)])
 }
 
 fn result_handle(loc: Localization) -> ds_result {
@@ -652,12 +912,14 @@ fn result_handle(loc: Localization) -> ds_result {
 /// here and copied. `progress` may be NULL. On success `*out` receives a handle to release
 /// with `ds_localizer_destroy`; the mesh handle may be destroyed after this call.
 ///
-/// Errors: `DS_INVALID_ARGUMENT` (NULL mesh/out, options out of range), `DS_NUMERICAL`,
-/// `DS_CANCELLED` (the callback returned 0).
+/// Errors: `DS_INVALID_ARGUMENT` (NULL or not-live mesh/options, NULL out, options out of
+/// range), `DS_OUT_OF_MEMORY` (the mesh too large for `k` and `resolution`: checked before the
+/// work starts, best effort), `DS_NUMERICAL`, `DS_CANCELLED` (the callback returned 0).
 ///
 /// # Safety
-/// `full` a live handle; `options` NULL or a live handle; `out` valid for one write;
-/// `progress` NULL or a function callable as described for `ds_progress_fn`.
+/// `full`, `options` (NULL: the defaults) any pointers (handle arguments, checked); `out`
+/// valid for one write; `progress` NULL or a function callable as described for
+/// `ds_progress_fn`.
 #[no_mangle]
 pub unsafe extern "C" fn ds_localizer_create(
     full: *const ds_mesh,
@@ -672,6 +934,8 @@ pub unsafe extern "C" fn ds_localizer_create(
         }
         let full = unsafe { handle(full, "full")? };
         let options = unsafe { options_in(options)? };
+        let n = full.mesh.mesh().n_vertices();
+        reserve(prepare_bytes(n, &options), || format!("preparing a full mesh of {n} vertices with k = {}", options.k))?;
         let inner = HostLocalizer::new(&full.mesh, &options, &progress_of(progress, user))?;
         let warnings = inner.warnings().iter().map(|w| c_string(w)).collect();
         let options_json = c_string(&options.to_json());
@@ -684,12 +948,13 @@ pub unsafe extern "C" fn ds_localizer_create(
 /// `*out` receives a result to release with `ds_result_destroy`; its per-vertex arrays are in
 /// the host's numbering of the full mesh.
 ///
-/// Errors: `DS_INVALID_ARGUMENT` (NULL handles/out; a partial without boundary or larger than
-/// the full mesh), `DS_NUMERICAL`, `DS_CANCELLED`.
+/// Errors: `DS_INVALID_ARGUMENT` (NULL or not-live handles, NULL out; a partial without
+/// boundary or larger than the full mesh), `DS_OUT_OF_MEMORY` (as for `ds_localizer_create`),
+/// `DS_NUMERICAL`, `DS_CANCELLED`.
 ///
 /// # Safety
-/// `localizer`, `partial` live handles; `out` valid for one write; `progress` as for
-/// `ds_localizer_create`.
+/// `localizer`, `partial` any pointers (handle arguments, checked); `out` valid for one
+/// write; `progress` as for `ds_localizer_create`.
 #[no_mangle]
 pub unsafe extern "C" fn ds_localizer_locate(
     localizer: *const ds_localizer,
@@ -704,44 +969,51 @@ pub unsafe extern "C" fn ds_localizer_locate(
         }
         let localizer = unsafe { handle(localizer, "localizer")? };
         let partial = unsafe { handle(partial, "partial")? };
+        let (n, m) = (partial.mesh.mesh().n_vertices(), localizer.inner.localizer().optimisation_vertices());
+        let k = localizer.inner.localizer().options().k;
+        reserve(locate_bytes(n, m, k), || format!("locating a partial of {n} vertices with k = {k}"))?;
         let loc = localizer.inner.locate(&partial.mesh, &progress_of(progress, user))?;
         unsafe { write_handle(out, result_handle(loc)) }
     })
 }
 
-/// Release a localizer (NULL is ignored). No `ds_localizer_locate` on it may be running.
+/// Release a localizer. NULL is ignored; a pointer that is not a live `ds_localizer`
+/// (destroyed already, not from this library, another handle type) is left alone and named in
+/// `ds_last_error_message` (a second destroy does nothing). No `ds_localizer_locate` on it may
+/// be running.
 ///
 /// # Safety
-/// `localizer` must be NULL or a handle from `ds_localizer_create` not yet destroyed.
+/// `localizer` any pointer: only a live `ds_localizer` is released. No other thread may be in a
+/// call on it.
 #[no_mangle]
 pub unsafe extern "C" fn ds_localizer_destroy(localizer: *mut ds_localizer) {
-    unsafe { destroy(localizer) }
+    unsafe { destroy(localizer, "ds_localizer_destroy") }
 }
 
 /// Vertices of the full mesh in the host's numbering: the length of every result's per-vertex
 /// arrays (0 for NULL).
 ///
 /// # Safety
-/// `localizer` must be NULL or a live handle.
+/// `localizer` any pointer (a handle argument, checked).
 #[no_mangle]
 pub unsafe extern "C" fn ds_localizer_n_vertices(localizer: *const ds_localizer) -> usize {
-    guard_value(0, || unsafe { handle(localizer, "localizer") }.map(|l| l.inner.n_vertices()).unwrap_or(0))
+    unsafe { get(localizer, "localizer", 0, |l| l.inner.n_vertices()) }
 }
 
 /// Vertices of the optimisation mesh (the full mesh decimated to about the `resolution`
 /// option; 0 for NULL).
 ///
 /// # Safety
-/// `localizer` must be NULL or a live handle.
+/// `localizer` any pointer (a handle argument, checked).
 #[no_mangle]
 pub unsafe extern "C" fn ds_localizer_optimisation_vertices(localizer: *const ds_localizer) -> usize {
-    guard_value(0, || unsafe { handle(localizer, "localizer") }.map(|l| l.inner.localizer().optimisation_vertices()).unwrap_or(0))
+    unsafe { get(localizer, "localizer", 0, |l| l.inner.localizer().optimisation_vertices()) }
 }
 
 /// Seconds `ds_localizer_create` took.
 ///
 /// # Safety
-/// `localizer` a live handle; `out` valid for one write.
+/// `localizer` any pointer (a handle argument, checked); `out` valid for one write.
 #[no_mangle]
 pub unsafe extern "C" fn ds_localizer_preparation_seconds(localizer: *const ds_localizer, out: *mut f64) -> ds_status {
     guard(|| unsafe { write_out(out, handle(localizer, "localizer")?.inner.localizer().preparation_seconds(), "out") })
@@ -751,35 +1023,31 @@ pub unsafe extern "C" fn ds_localizer_preparation_seconds(localizer: *const ds_l
 /// (valid until `ds_localizer_destroy`); NULL for NULL.
 ///
 /// # Safety
-/// `localizer` must be NULL or a live handle.
+/// `localizer` any pointer (a handle argument, checked).
 #[no_mangle]
 pub unsafe extern "C" fn ds_localizer_options_json(localizer: *const ds_localizer) -> *const c_char {
-    guard_value(std::ptr::null(), || {
-        unsafe { handle(localizer, "localizer") }.map_or(std::ptr::null(), |l| l.options_json.as_ptr())
-    })
+    unsafe { get(localizer, "localizer", std::ptr::null(), |l| l.options_json.as_ptr()) }
 }
 
 /// Number of notes on the preparation (what the intake left out of the full mesh, a
 /// decimation that failed, ...); they are repeated in every result. 0 for NULL.
 ///
 /// # Safety
-/// `localizer` must be NULL or a live handle.
+/// `localizer` any pointer (a handle argument, checked).
 #[no_mangle]
 pub unsafe extern "C" fn ds_localizer_n_warnings(localizer: *const ds_localizer) -> usize {
-    guard_value(0, || unsafe { handle(localizer, "localizer") }.map(|l| l.warnings.len()).unwrap_or(0))
+    unsafe { get(localizer, "localizer", 0, |l| l.warnings.len()) }
 }
 
 /// Note `index` (< `ds_localizer_n_warnings`), owned by the localizer (valid until
 /// `ds_localizer_destroy`); NULL for a NULL localizer or an index out of range.
 ///
 /// # Safety
-/// `localizer` must be NULL or a live handle.
+/// `localizer` any pointer (a handle argument, checked).
 #[no_mangle]
 pub unsafe extern "C" fn ds_localizer_warning(localizer: *const ds_localizer, index: usize) -> *const c_char {
-    guard_value(std::ptr::null(), || match unsafe { handle(localizer, "localizer") } {
-        Ok(l) => l.warnings.get(index).map_or(std::ptr::null(), |w| w.as_ptr()),
-        Err(_) => std::ptr::null(),
-    })
+    let warning = |l: &ds_localizer| l.warnings.get(index).map_or(std::ptr::null(), |w| w.as_ptr());
+    unsafe { get(localizer, "localizer", std::ptr::null(), warning) }
 }
 
 /// Find the region of `full` that `partial` corresponds to, in one call (prepare, then locate;
@@ -790,8 +1058,9 @@ pub unsafe extern "C" fn ds_localizer_warning(localizer: *const ds_localizer, in
 /// Errors: as `ds_localizer_create` and `ds_localizer_locate`.
 ///
 /// # Safety
-/// `full`, `partial` live handles; `options` NULL or a live handle; `out` valid for one write;
-/// `progress` NULL or a function callable as described for `ds_progress_fn`.
+/// `full`, `partial`, `options` (NULL: the defaults) any pointers (handle arguments,
+/// checked); `out` valid for one write; `progress` NULL or a function callable as described
+/// for `ds_progress_fn`.
 #[no_mangle]
 pub unsafe extern "C" fn ds_localize(
     full: *const ds_mesh,
@@ -808,31 +1077,39 @@ pub unsafe extern "C" fn ds_localize(
         let full = unsafe { handle(full, "full")? };
         let partial = unsafe { handle(partial, "partial")? };
         let options = unsafe { options_in(options)? };
+        let (n, n_partial) = (full.mesh.mesh().n_vertices(), partial.mesh.mesh().n_vertices());
+        let m = optimisation_vertices(n, &options);
+        reserve(sum_bytes(&[prepare_bytes(n, &options), locate_bytes(n_partial, m, options.k)]), || {
+            format!("localizing a partial of {n_partial} vertices on a full mesh of {n} with k = {}", options.k)
+        })?;
         let loc = crate::localize(&full.mesh, &partial.mesh, &options, &progress_of(progress, user))?;
         unsafe { write_handle(out, result_handle(loc)) }
     })
 }
 
-/// Release a result (NULL is ignored).
+/// Release a result. NULL is ignored; a pointer that is not a live `ds_result` (destroyed
+/// already, not from this library, another handle type) is left alone and named in
+/// `ds_last_error_message` (a second destroy does nothing).
 ///
 /// # Safety
-/// `result` must be NULL or a handle from `ds_localize`/`ds_localizer_locate` not yet destroyed.
+/// `result` any pointer: only a live `ds_result` is released. No other thread may be in a
+/// call on it.
 #[no_mangle]
 pub unsafe extern "C" fn ds_result_destroy(result: *mut ds_result) {
-    unsafe { destroy(result) }
+    unsafe { destroy(result, "ds_result_destroy") }
 }
 
 /// Number of vertices of the full mesh in the host's numbering, the length of the per-vertex
 /// arrays (0 for NULL).
 ///
 /// # Safety
-/// `result` must be NULL or a live handle.
+/// `result` any pointer (a handle argument, checked).
 #[no_mangle]
 pub unsafe extern "C" fn ds_result_n_vertices(result: *const ds_result) -> usize {
-    guard_value(0, || unsafe { handle(result, "result") }.map(|r| r.loc.region.len()).unwrap_or(0))
+    unsafe { get(result, "result", 0, |r| r.loc.region.len()) }
 }
 
-fn copy_f64(src: &[f64], out: *mut f64, out_len: usize, what: &str) -> Result<(), Error> {
+fn copy_f64(src: &[f64], out: *mut f64, out_len: usize, what: &str) -> Result<(), Failure> {
     if out_len != src.len() {
         return Err(invalid(format!("out_len is {out_len}, {what} has {} values", src.len())));
     }
@@ -845,7 +1122,7 @@ fn copy_f64(src: &[f64], out: *mut f64, out_len: usize, what: &str) -> Result<()
 /// (0 at vertices the intake left out). `out_len` must equal `ds_result_n_vertices(result)`.
 ///
 /// # Safety
-/// `result` a live handle; `out` valid for `out_len` writes.
+/// `result` any pointer (a handle argument, checked); `out` valid for `out_len` writes.
 #[no_mangle]
 pub unsafe extern "C" fn ds_result_region(result: *const ds_result, out: *mut u8, out_len: usize) -> ds_status {
     guard(|| {
@@ -865,7 +1142,7 @@ pub unsafe extern "C" fn ds_result_region(result: *const ds_result, out: *mut u8
 /// Soft membership score in [0, 1] per full-mesh vertex (`out_len == ds_result_n_vertices`).
 ///
 /// # Safety
-/// `result` a live handle; `out` valid for `out_len` writes.
+/// `result` any pointer (a handle argument, checked); `out` valid for `out_len` writes.
 #[no_mangle]
 pub unsafe extern "C" fn ds_result_score(result: *const ds_result, out: *mut f64, out_len: usize) -> ds_status {
     guard(|| copy_f64(&unsafe { handle(result, "result")? }.loc.score, out, out_len, "the score"))
@@ -874,7 +1151,7 @@ pub unsafe extern "C" fn ds_result_score(result: *const ds_result, out: *mut f64
 /// Optimised potential `v >= 0` per full-mesh vertex (`out_len == ds_result_n_vertices`).
 ///
 /// # Safety
-/// `result` a live handle; `out` valid for `out_len` writes.
+/// `result` any pointer (a handle argument, checked); `out` valid for `out_len` writes.
 #[no_mangle]
 pub unsafe extern "C" fn ds_result_potential(result: *const ds_result, out: *mut f64, out_len: usize) -> ds_status {
     guard(|| copy_f64(&unsafe { handle(result, "result")? }.loc.potential, out, out_len, "the potential"))
@@ -884,19 +1161,17 @@ pub unsafe extern "C" fn ds_result_potential(result: *const ds_result, out: *mut
 /// metric; 0 for the metric the mode does not use).
 ///
 /// # Safety
-/// `result` must be NULL or a live handle.
+/// `result` any pointer (a handle argument, checked).
 #[no_mangle]
 pub unsafe extern "C" fn ds_result_n_eigenvalues(result: *const ds_result, metric: ds_metric) -> usize {
-    guard_value(0, || match (unsafe { handle(result, "result") }, metric_from_code(metric)) {
-        (Ok(r), Ok(m)) => crate::eigenvalues(&r.loc, m, false).len(),
-        _ => 0,
-    })
+    let count = |r: &ds_result| metric_from_code(metric).map_or(0, |m| crate::eigenvalues(&r.loc, m, false).len());
+    unsafe { get(result, "result", 0, count) }
 }
 
 /// Hamiltonian eigenvalues at the optimum in `metric` (`out_len == ds_result_n_eigenvalues`).
 ///
 /// # Safety
-/// `result` a live handle; `out` valid for `out_len` writes.
+/// `result` any pointer (a handle argument, checked); `out` valid for `out_len` writes.
 #[no_mangle]
 pub unsafe extern "C" fn ds_result_eigenvalues(result: *const ds_result, metric: ds_metric, out: *mut f64, out_len: usize) -> ds_status {
     guard(|| {
@@ -909,7 +1184,7 @@ pub unsafe extern "C" fn ds_result_eigenvalues(result: *const ds_result, metric:
 /// `ds_result_n_eigenvalues(result, metric)`.
 ///
 /// # Safety
-/// `result` a live handle; `out` valid for `out_len` writes.
+/// `result` any pointer (a handle argument, checked); `out` valid for `out_len` writes.
 #[no_mangle]
 pub unsafe extern "C" fn ds_result_target_eigenvalues(result: *const ds_result, metric: ds_metric, out: *mut f64, out_len: usize) -> ds_status {
     guard(|| {
@@ -921,7 +1196,7 @@ pub unsafe extern "C" fn ds_result_target_eigenvalues(result: *const ds_result, 
 /// Final alignment cost of the selected start.
 ///
 /// # Safety
-/// `result` a live handle; `out` valid for one write.
+/// `result` any pointer (a handle argument, checked); `out` valid for one write.
 #[no_mangle]
 pub unsafe extern "C" fn ds_result_cost(result: *const ds_result, out: *mut f64) -> ds_status {
     guard(|| unsafe { write_out(out, handle(result, "result")?.loc.cost, "out") })
@@ -930,7 +1205,7 @@ pub unsafe extern "C" fn ds_result_cost(result: *const ds_result, out: *mut f64)
 /// Total wall-clock seconds of the call that made the result.
 ///
 /// # Safety
-/// `result` a live handle; `out` valid for one write.
+/// `result` any pointer (a handle argument, checked); `out` valid for one write.
 #[no_mangle]
 pub unsafe extern "C" fn ds_result_seconds(result: *const ds_result, out: *mut f64) -> ds_status {
     guard(|| unsafe { write_out(out, handle(result, "result")?.loc.timings.total, "out") })
@@ -939,7 +1214,7 @@ pub unsafe extern "C" fn ds_result_seconds(result: *const ds_result, out: *mut f
 /// Wall-clock seconds per stage.
 ///
 /// # Safety
-/// `result` a live handle; `out` valid for one write.
+/// `result` any pointer (a handle argument, checked); `out` valid for one write.
 #[no_mangle]
 pub unsafe extern "C" fn ds_result_timings(result: *const ds_result, out: *mut ds_timings) -> ds_status {
     guard(|| {
@@ -960,7 +1235,7 @@ pub unsafe extern "C" fn ds_result_timings(result: *const ds_result, out: *mut d
 /// Index of the selected start and the number of starts run (either pointer may be NULL).
 ///
 /// # Safety
-/// `result` a live handle; non-NULL pointers valid for one write.
+/// `result` any pointer (a handle argument, checked); non-NULL pointers valid for one write.
 #[no_mangle]
 pub unsafe extern "C" fn ds_result_starts(result: *const ds_result, selected: *mut usize, n_starts: *mut usize) -> ds_status {
     guard(|| {
@@ -980,21 +1255,47 @@ pub unsafe extern "C" fn ds_result_starts(result: *const ds_result, selected: *m
 /// for NULL.
 ///
 /// # Safety
-/// `result` must be NULL or a live handle.
+/// `result` any pointer (a handle argument, checked).
 #[no_mangle]
 pub unsafe extern "C" fn ds_result_n_warnings(result: *const ds_result) -> usize {
-    guard_value(0, || unsafe { handle(result, "result") }.map(|r| r.warnings.len()).unwrap_or(0))
+    unsafe { get(result, "result", 0, |r| r.warnings.len()) }
 }
 
 /// Warning `index` (< `ds_result_n_warnings`), NUL-terminated and owned by the result (valid
 /// until `ds_result_destroy`); NULL for a NULL result or an index out of range.
 ///
 /// # Safety
-/// `result` must be NULL or a live handle.
+/// `result` any pointer (a handle argument, checked).
 #[no_mangle]
 pub unsafe extern "C" fn ds_result_warning(result: *const ds_result, index: usize) -> *const c_char {
-    guard_value(std::ptr::null(), || match unsafe { handle(result, "result") } {
-        Ok(r) => r.warnings.get(index).map_or(std::ptr::null(), |w| w.as_ptr()),
-        Err(_) => std::ptr::null(),
-    })
+    let warning = |r: &ds_result| r.warnings.get(index).map_or(std::ptr::null(), |w| w.as_ptr());
+    unsafe { get(result, "result", std::ptr::null(), warning) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn estimates_are_exact_sums_and_overflow_to_none() {
+        assert_eq!(mesh_bytes(10, 20), Some(10 * 32 + 20 * 24));
+        assert_eq!(eigen_bytes(100, 20), Some(100 * (20 + OPERATOR_DOUBLES) * 8));
+        // k beyond n is refused by the core before it computes anything.
+        assert_eq!(eigen_bytes(100, usize::MAX), Some(100 * (100 + OPERATOR_DOUBLES) * 8));
+        assert_eq!(mesh_bytes(usize::MAX / 32 + 1, 0), None);
+        assert_eq!(eigen_bytes(usize::MAX / 8, 1), None);
+        assert_eq!(sum_bytes(&[Some(usize::MAX), Some(1)]), None);
+        assert_eq!(sum_bytes(&[Some(1), None]), None);
+        assert_eq!(human_bytes(1536), "1.5 KiB");
+    }
+
+    #[test]
+    fn reserve_refuses_what_no_machine_has() {
+        assert!(reserve(Some(1 << 20), String::new).is_ok());
+        for bytes in [None, Some(usize::MAX), eigen_bytes(1 << 40, 500)] {
+            let e = reserve(bytes, || "the test".into()).unwrap_err();
+            assert_eq!(e.status(), DS_OUT_OF_MEMORY);
+            assert!(e.message().starts_with("out of memory: ") && e.message().contains("the test"), "{}", e.message());
+        }
+    }
 }
