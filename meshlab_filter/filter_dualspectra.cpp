@@ -251,10 +251,11 @@ bool FilterDualSpectraPlugin::localizePartial(MeshModel* full, MeshModel* partia
         vcg::tri::UpdateColor<CMeshO>::PerVertexQualityRamp(full->cm, Scalarm(1), Scalarm(0));
     }
     const char* json = ds_options_json(options);
-    Log("Localized '%s' on '%s': %zu of %zu vertices selected (%.1f%%), %d faces; cost %.6g; %.2f s; options %s",
+    Log("Localized '%s' on '%s': %zu of %zu vertices selected (%.1f%%), %d faces; confidence %.2f; cost %.6g; %.2f s; "
+        "options %s",
         qUtf8Printable(partial->label()), qUtf8Printable(full->label()), n, fullArrays.n_vertices(),
-        100.0 * double(n) / double(std::max<size_t>(1, fullArrays.n_vertices())), full->cm.sfn, out.cost, out.seconds,
-        json != nullptr ? json : "");
+        100.0 * double(n) / double(std::max<size_t>(1, fullArrays.n_vertices())), full->cm.sfn, out.confidence, out.cost,
+        out.seconds, json != nullptr ? json : "");
     return true;
 }
 

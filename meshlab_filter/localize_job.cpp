@@ -164,6 +164,7 @@ void localize_on_worker(LocalizerCache& cache, int full_layer, const PackedLayer
     if ((st = ds_result_region(result.get(), out.region.data(), n)) != DS_OK ||
         (st = ds_result_score(result.get(), out.score.data(), n)) != DS_OK ||
         (st = ds_result_cost(result.get(), &out.cost)) != DS_OK ||
+        (st = ds_result_confidence(result.get(), &out.confidence)) != DS_OK ||
         (st = ds_result_seconds(result.get(), &out.seconds)) != DS_OK) {
         out.status = st;
         out.error = describe(st, "reading the result failed");

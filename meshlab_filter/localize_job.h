@@ -57,6 +57,7 @@ struct LocalizeOutcome {
     std::vector<uint8_t> region; ///< per packed vertex of the full layer: 1 = in the region
     std::vector<double> score;   ///< per packed vertex of the full layer, in [0, 1]
     double cost = 0.0;
+    double confidence = 0.0;          ///< in [0, 1]: estimated probability that IoU >= 0.5
     double seconds = 0.0;             ///< locating the partial
     double preparation_seconds = 0.0; ///< preparing the full shape (when it was prepared now)
     bool reused = false;              ///< the full shape was prepared by an earlier call

@@ -269,7 +269,7 @@ class LocalizeOperator:
         self.report(
             {'INFO'},
             f"Selected {int(region.sum())} of {len(region)} vertices of '{full.name}' "
-            f"(cost {float(result.cost):.3g}, {job.elapsed:.1f} s, {prepared})",
+            f"(confidence {float(result.confidence):.2f}, cost {float(result.cost):.3g}, {job.elapsed:.1f} s, {prepared})",
         )
         return {'FINISHED'}
 

@@ -4,7 +4,7 @@
 // dualspectra::localize, stores the result in the full mesh's vertex property maps
 // "v:dualspectra_region" (bool) and "v:dualspectra_score" (double), and writes the full mesh
 // with the region as vertex colours (red region, grey elsewhere; a .ply output also carries the
-// score as a "dualspectra_score" vertex property). Prints the region size and the cost.
+// score as a "dualspectra_score" vertex property). Prints the region size, the cost and the confidence.
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -92,8 +92,8 @@ int main(int argc, char** argv) {
       if (!os) throw std::runtime_error("cannot write '" + args.indices + "'");
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::printf("region: %zu of %zu vertices\ncost: %.6g\nselected start: %zu of %zu\nlocalize: %.2f s, total: %.2f s\nwrote %s\n",
-                n_region, full.mesh.n_vertices(), r.cost, r.selected_start, r.n_starts, r.timings.total, seconds,
+    std::printf("region: %zu of %zu vertices\ncost: %.6g\nconfidence: %.2f\nselected start: %zu of %zu\nlocalize: %.2f s, total: %.2f s\nwrote %s\n",
+                n_region, full.mesh.n_vertices(), r.cost, r.confidence, r.selected_start, r.n_starts, r.timings.total, seconds,
                 args.output.c_str());
     return 0;
   } catch (const dualspectra::Error& e) {

@@ -3,7 +3,7 @@
 // reads both meshes with OpenMesh::IO::read_mesh (OFF, PLY, OBJ, STL, ...) into a TriMesh with
 // double points, runs dualspectra::localize, stores the region as the vertex property
 // "v:dualspectra_region" and the vertices' `selected` status flag, and writes the full mesh with
-// the region as vertex colours (red region, grey elsewhere). Prints the region size and the cost.
+// the region as vertex colours (red region, grey elsewhere). Prints the region size, the cost and the confidence.
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -77,8 +77,8 @@ int main(int argc, char** argv) {
       if (!os) throw std::runtime_error("cannot write '" + args.indices + "'");
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::printf("region: %zu of %zu vertices\ncost: %.6g\nselected start: %zu of %zu\nlocalize: %.2f s, total: %.2f s\nwrote %s\n",
-                n_region, static_cast<std::size_t>(full_om.n_vertices()), r.cost, r.selected_start, r.n_starts, r.timings.total, seconds,
+    std::printf("region: %zu of %zu vertices\ncost: %.6g\nconfidence: %.2f\nselected start: %zu of %zu\nlocalize: %.2f s, total: %.2f s\nwrote %s\n",
+                n_region, static_cast<std::size_t>(full_om.n_vertices()), r.cost, r.confidence, r.selected_start, r.n_starts, r.timings.total, seconds,
                 args.output.c_str());
     return 0;
   } catch (const dualspectra::Error& e) {

@@ -97,6 +97,7 @@ Localization to_localization(const detail::LocalizationData& d) {
   r.target_regular = to_std(d.target_regular);
   r.target_si = to_std(d.target_si);
   r.cost = d.cost;
+  r.confidence = d.confidence;
   r.selected_start = d.selected_start;
   r.n_starts = d.n_starts;
   r.timings = d.timings;

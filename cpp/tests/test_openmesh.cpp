@@ -109,6 +109,8 @@ int main() {
         T.check(same && !got.warnings.empty() && got.warnings[0].rfind("full mesh: left out", 0) == 0,
                 "located through the adapter = strict one-call result in host numbering (" + std::to_string(n_region) +
                     " vertices in the region); warnings[0]: " + (got.warnings.empty() ? "(none)" : got.warnings[0]));
+        T.check(got.confidence == want.confidence && got.confidence >= 0.0 && got.confidence <= 1.0,
+                "confidence through the adapter = strict one-call result, in [0, 1]: " + std::to_string(got.confidence));
       }
     }
 

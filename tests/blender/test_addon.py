@@ -12,8 +12,9 @@ gives both objects different transforms (non-uniform object scale included, the 
 shapes unchanged), runs the operator and checks the selected vertices against the cut.
 Also: the option properties are the library's table (``dualspectra.options_schema()``);
 a second part located on the same object reuses the prepared ``Localizer`` and selects what
-a fresh preparation selects; loose vertices and degenerate faces are the library's to drop
-(reported as a warning, the selection still covers every vertex).
+a fresh preparation selects; the confidence in the operator's report is the library's; loose
+vertices and degenerate faces are the library's to drop (reported as a warning, the selection
+still covers every vertex).
 
 Exit status 1 on any failure (``--python-exit-code 1`` for the Blender binary).
 """
@@ -22,6 +23,7 @@ import argparse
 import contextlib
 import ctypes
 import os
+import re
 import sys
 import tempfile
 import time
@@ -366,8 +368,12 @@ def run_localize(**kw):
 
 def test_operator_selects_the_cut_region():
     full, part = scene_pair()
-    ret, seconds = run_localize(partial_object="")  # default: the other selected mesh
+    with captured_output() as out:
+        ret, seconds = run_localize(partial_object="")  # default: the other selected mesh
     assert ret == {'FINISHED'}, ret
+    reported = re.search(r"Selected \d+ of \d+ vertices .*\(confidence ([0-9.]+),", out["text"])
+    assert reported and 0.0 <= float(reported.group(1)) <= 1.0, out["text"]
+    RESULT["confidence"] = reported.group(1)
     mesh = full.data
     sel = selected_vertices(mesh)
     score = np.zeros(len(mesh.vertices), dtype=np.float32)
@@ -510,6 +516,7 @@ def test_operator_equals_direct_call_in_world_space():
     diff = int((direct != RESULT["selection"]).sum())
     print(f"    direct call differs on {diff} vertices, IoU {iou(direct, RESULT['selection']):.4f}")
     assert diff == 0, f"differ on {diff} vertices"
+    assert f"{res.confidence:.2f}" == RESULT["confidence"], (res.confidence, RESULT["confidence"])
 
 
 def test_invoke_in_edit_mode_headless():

@@ -147,9 +147,13 @@ int main() {
                              : DS_PANIC;
     std::vector<std::uint8_t> cregion(ds_result_n_vertices(cres));
     ds_result_region(cres, cregion.data(), cregion.size());
+    double cconfidence = -1.0;
+    ds_result_confidence(cres, &cconfidence);
     const auto cpp = prepared.locate(top);
-    check(st == DS_OK && std::vector<bool>(cregion.begin(), cregion.end()) == cpp.region,
-          "C ds_localizer_locate = C++ Localizer::locate (status " + std::string(ds_status_name(st)) + ")");
+    check(st == DS_OK && std::vector<bool>(cregion.begin(), cregion.end()) == cpp.region &&
+              cconfidence == cpp.confidence,
+          "C ds_localizer_locate = C++ Localizer::locate, region and confidence (status " +
+              std::string(ds_status_name(st)) + ")");
     ds_result_destroy(cres);
     ds_localizer_destroy(cloc);
     ds_mesh_destroy(cpart);

@@ -21,11 +21,12 @@ Cases (each one meshlabserver run):
                script of the defaults (else regenerate it with --write-script).
   region       one script, two filter calls on the same full layer (a full mesh with a loose
                vertex and a zero-area face): partial2, then partial; the first call prepares the
-               full shape, the second reuses it (the log says both); the intake's warning is
-               logged; the selection saved with `-m vf vq sa` (selected vertices carry flag bit
-               0x20) must have IoU >= --min-iou with partial's known region and leave the
-               loose/degenerate vertices out; the score written to vertex quality must be in
-               [0, 1] and higher on average inside the known region than outside.
+               full shape, the second reuses it (the log says both, and each result's
+               confidence, in [0, 1]); the intake's warning is logged; the selection saved
+               with `-m vf vq sa` (selected vertices carry flag bit 0x20) must have IoU >=
+               --min-iou with partial's known region and leave the loose/degenerate vertices
+               out; the score written to vertex quality must be in [0, 1] and higher on
+               average inside the known region than outside.
   same-layer   the full layer picked twice: a clear message in the log, no crash.
   point-cloud  a partial layer without faces: a clear message in the log, no crash.
   bad-k, bad-planes, bad-seed
@@ -351,6 +352,9 @@ def main():
                 results = log_lines(text, "Localized ")
                 checks.check("region", len(results) == 2 and "partial2.off" in results[0] and "'partial.off'" in results[1],
                              " | ".join(results))
+                confidences = [float(m.group(1)) for m in (re.search(r"; confidence ([0-9.]+);", r) for r in results) if m]
+                checks.check("region", len(confidences) == 2 and all(0.0 <= c <= 1.0 for c in confidences),
+                             "each result line gives a confidence in [0, 1]: %s" % confidences)
                 prepared, reused = log_lines(text, "prepared the full shape"), log_lines(text, "reused the full shape")
                 checks.check("region", len(prepared) == 1 and len(reused) == 1,
                              "one preparation, one reuse: %s" % " | ".join(prepared + reused))

@@ -83,6 +83,7 @@ def test_localize_finds_the_cut(pair: Pair) -> None:
     assert 0 <= r.selected_start < r.n_starts
     chosen = r.candidates[r.selected_start]
     assert np.array_equal(chosen.region, r.region) and chosen.cost == r.cost
+    assert isinstance(r.confidence, float) and 0.0 <= r.confidence <= 1.0, r.confidence
     assert all(c.region.shape == (len(v),) and c.evaluations >= 1 for c in r.candidates)
     assert set(r.timings) == {"preparation", "preprocessing", "starts", "optimisation", "region", "selection", "total"}
     assert r.timings["preparation"] > 0 and r.timings["total"] >= r.timings["optimisation"]
@@ -90,7 +91,7 @@ def test_localize_finds_the_cut(pair: Pair) -> None:
     assert xs and all(0.0 <= x <= 1.0 for x in xs) and xs == sorted(xs)
     assert {s for _, s in stages} >= {"preparing", "preprocessing"}
     assert r.warnings == ()
-    assert "Localization(" in repr(r) and "Candidate(" in repr(chosen)
+    assert "Localization(" in repr(r) and f"confidence={r.confidence:.3f}" in repr(r) and "Candidate(" in repr(chosen)
 
 
 def test_one_localizer_gives_the_regions_of_one_call_runs(pair: Pair, other_pair: Pair, one_call, localizer) -> None:  # type: ignore[no-untyped-def]
@@ -103,7 +104,7 @@ def test_one_localizer_gives_the_regions_of_one_call_runs(pair: Pair, other_pair
         r = localizer.locate(p[2], p[3])
         assert np.array_equal(r.region, fresh.region), f"differ on {(r.region != fresh.region).sum()} vertices"
         np.testing.assert_array_equal(r.score, fresh.score)
-        assert r.cost == fresh.cost and r.selected_start == fresh.selected_start
+        assert r.cost == fresh.cost and r.confidence == fresh.confidence and r.selected_start == fresh.selected_start
         assert [c.label for c in r.candidates] == [c.label for c in fresh.candidates]
         assert r.timings["preparation"] == 0.0 < fresh.timings["preparation"]
     assert "Localizer(n_vertices=642" in repr(localizer)

@@ -91,9 +91,9 @@ typedef struct ds_timings {
 // option and its range).
 #define DS_INVALID_ARGUMENT 1
 
-// The mesh arrays do not describe a valid triangle mesh (index out of range, non-manifold edge
-// or vertex, non-finite coordinate; for `ds_mesh_create` also a degenerate face or a vertex in
-// no face).
+// The mesh arrays do not describe a valid triangle mesh (index out of range, non-finite
+// coordinate, no usable face; for `ds_mesh_create` also a degenerate face, a vertex in no face,
+// or a non-manifold edge or vertex, which `ds_mesh_create_from_host` repairs).
 #define DS_INVALID_MESH 2
 
 // A numerical method failed (eigensolver, factorization, optimiser).
@@ -142,24 +142,29 @@ const char *ds_status_name(ds_status status);
 //
 // Errors: `DS_INVALID_ARGUMENT` (NULL/misaligned pointers, overflowing counts),
 // `DS_OUT_OF_MEMORY` (counts too large to hold the mesh: checked before the arrays are read),
-// `DS_INVALID_MESH` (index out of range, repeated/degenerate face, non-manifold edge or
-// vertex, vertex in no face, non-finite coordinate, no faces).
+// `DS_INVALID_MESH` (index out of range, repeated/degenerate face, non-manifold edge (in
+// more than two faces, as when a triangle is given twice) or vertex (its faces in several
+// fans), vertex in no face, non-finite coordinate, no faces).
 //
 // # Safety
 // `xyz` must point to `3 * n_vertices` doubles and `tri` to `3 * n_faces` uint32 (or be NULL
 // with a zero count); `out` must be valid for writing one pointer.
 ds_status ds_mesh_create(const double *xyz, size_t n_vertices, const uint32_t *tri, size_t n_faces, struct ds_mesh **out);
 
-// Create a mesh from a host's arrays (an editor's mesh, a file) through the core's intake:
-// faces that repeat a vertex or have zero area, then vertices in no face, are left out, and
-// the mesh remembers the map back to the host's vertices. Every per-vertex array in or out
-// (`ds_gaussian_curvature`, `ds_result_region`, ...) is then in the host's numbering, of
-// length `ds_mesh_n_vertices` = `n_vertices`; left-out vertices get 0. What was left out is
-// said by `ds_mesh_warning` and among the warnings of every result computed with the mesh.
+// Create a mesh from a host's arrays (an editor's mesh, a scan, a file) through the core's
+// intake: faces that repeat a vertex or have zero area are left out; non-manifold edges (in
+// more than two faces) and vertices (faces in several fans) are split, each extra fan of a
+// vertex getting a copy of it (no face removed; the rule of the core's `mesh::repair`); then
+// vertices in no face are left out. The mesh remembers the map back to the host's vertices.
+// Every per-vertex array in or out (`ds_gaussian_curvature`, `ds_result_region`, ...) is then
+// in the host's numbering, of length `ds_mesh_n_vertices` = `n_vertices`; left-out vertices
+// get 0; a split vertex is in a region if any copy is, its curvature and score are its first
+// copy's, its mass the sum over its copies. What was changed is said by `ds_mesh_warning` and
+// among the warnings of every result computed with the mesh.
 //
-// Errors: as `ds_mesh_create`, without the degenerate-face and vertex-in-no-face cases
-// (`DS_INVALID_MESH` when every face is degenerate). Vertex and face numbers in the messages
-// are the host's.
+// Errors: as `ds_mesh_create`, without the degenerate-face, vertex-in-no-face and
+// non-manifold cases (`DS_INVALID_MESH` when every face is degenerate). Vertex and face
+// numbers in the messages are the host's.
 //
 // # Safety
 // As `ds_mesh_create`.
@@ -187,21 +192,24 @@ size_t ds_mesh_n_vertices(const struct ds_mesh *mesh);
 // `mesh` any pointer (a handle argument, checked).
 size_t ds_mesh_n_faces(const struct ds_mesh *mesh);
 
-// Number of vertices used (those of some used face; 0 for NULL).
+// Number of vertices of the mesh the core works on: those of some used face, then the copies
+// of split non-manifold vertices (0 for NULL).
 //
 // # Safety
 // `mesh` any pointer (a handle argument, checked).
 size_t ds_mesh_n_used_vertices(const struct ds_mesh *mesh);
 
-// The host index of each used vertex, increasing (`out_len == ds_mesh_n_used_vertices`).
+// The host index of each vertex of the mesh the core works on (`out_len ==
+// ds_mesh_n_used_vertices`): the used host vertices, increasing, then the copies of split
+// non-manifold vertices, each its host vertex's index.
 //
 // # Safety
 // `mesh` any pointer (a handle argument, checked); `out` valid for `out_len` writes.
 ds_status ds_mesh_used_vertices(const struct ds_mesh *mesh, uint32_t *out, size_t out_len);
 
-// What the intake left out of a mesh from `ds_mesh_create_from_host`, as a sentence owned by
-// the mesh (valid until `ds_mesh_destroy`); NULL if nothing was (always for `ds_mesh_create`)
-// or for a NULL mesh.
+// What the intake left out or split in a mesh from `ds_mesh_create_from_host`, as a sentence
+// owned by the mesh (valid until `ds_mesh_destroy`); NULL if nothing (always for
+// `ds_mesh_create`) or for a NULL mesh.
 //
 // # Safety
 // `mesh` any pointer (a handle argument, checked).
@@ -427,6 +435,14 @@ ds_status ds_result_target_eigenvalues(const struct ds_result *result, ds_metric
 // # Safety
 // `result` any pointer (a handle argument, checked); `out` valid for one write.
 ds_status ds_result_cost(const struct ds_result *result, double *out);
+
+// How much to trust the region, in [0, 1]: the estimated probability that it overlaps the
+// true region with IoU >= 0.5 (the core's `selection::confidence`). Reject matches below a
+// threshold of your choice.
+//
+// # Safety
+// `result` any pointer (a handle argument, checked); `out` valid for one write.
+ds_status ds_result_confidence(const struct ds_result *result, double *out);
 
 // Total wall-clock seconds of the call that made the result.
 //

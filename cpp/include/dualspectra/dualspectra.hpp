@@ -145,6 +145,9 @@ struct Localization {
   std::vector<double> target_regular;       // the partial shape's Dirichlet eigenvalues
   std::vector<double> target_si;
   double cost = 0.0;                   // final alignment cost of the selected start
+  // How much to trust the region, in [0, 1]: the estimated probability that it overlaps the
+  // true region with IoU >= 0.5. Reject matches below a threshold of your choice.
+  double confidence = 0.0;
   std::size_t selected_start = 0;
   std::size_t n_starts = 0;
   Timings timings{};                   // wall-clock seconds per stage

@@ -225,10 +225,6 @@ fn bad_files_fail_with_one_line_naming_the_file() {
     for (name, expect) in [
         ("nan.off", "vertex 2 has a non-finite coordinate"),
         ("truncated.off", "the file ends after 2 of 4 faces (truncated?)"),
-        (
-            "nonmanifold_edge.off",
-            "edge (0, 1) is shared by 3 faces (non-manifold)",
-        ),
         ("degenerate.off", "face 1 has zero area (degenerate)"),
         ("no_faces.off", "mesh has no faces"),
         ("bad_header.ply", "unsupported format line"),
@@ -268,6 +264,38 @@ fn isolated_vertices_fail_with_a_hint_or_are_dropped_on_request() {
         eigenvalues(&run(&["spectrum", p, "--k", "2", "--drop-isolated"])).len(),
         2
     );
+}
+
+#[test]
+fn non_manifold_files_are_read_split_with_a_warning() {
+    // Three triangles on the edge (0, 1): the third gets copies of 0 and 1 (a loose
+    // triangle); the file's vertices 0 and 1 take their first copy's values.
+    let p = data("nonmanifold_edge.off");
+    let p = p.to_str().unwrap();
+    let out = run(&["curvature", p]);
+    let v = json(&out);
+    let k = v["gaussian_curvature"].as_array().unwrap();
+    assert_eq!(k.len(), 5);
+    assert!(k.iter().all(Value::is_f64));
+    let warnings = v["warnings"].as_array().unwrap();
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    let w = warnings[0].as_str().unwrap();
+    assert!(w.contains("split 1 non-manifold edge(s) and 2 non-manifold vertex(es): 2 vertex copies"), "{w}");
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert_eq!(stderr.lines().collect::<Vec<_>>(), [format!("warning: {p}: {w}")]);
+    // The spectrum command says it on stderr too (its JSON holds only the eigenvalues): a
+    // disk with a fin on its edge (0, 1).
+    let d = disk(1.0, 3);
+    let mut text = format!("OFF\n{} {} 0\n", d.n_vertices() + 1, d.n_faces() + 1);
+    d.vertices().iter().for_each(|p| text += &format!("{} {} {}\n", p[0], p[1], p[2]));
+    text += "0.05 0 1\n";
+    d.faces().iter().for_each(|f| text += &format!("3 {} {} {}\n", f[0], f[1], f[2]));
+    text += &format!("3 0 1 {}\n", d.n_vertices());
+    let fin = tmp("disk_with_fin.off");
+    std::fs::write(&fin, text).unwrap();
+    let out = run(&["spectrum", fin.to_str().unwrap(), "--k", "2"]);
+    assert_eq!(eigenvalues(&out).len(), 2);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("split 1 non-manifold edge(s)"), "{out:?}");
 }
 
 #[test]

@@ -65,6 +65,7 @@ pub mod ffi {
         target_regular: Vec<f64>,
         target_si: Vec<f64>,
         cost: f64,
+        confidence: f64,
         selected_start: usize,
         n_starts: usize,
         timings: Timings,
@@ -341,15 +342,28 @@ fn spectrum(mesh: &MeshData, k: usize, metric: ffi::Metric, alpha: f64) -> Resul
 }
 
 /// The cotangent stiffness in the host's numbering (rows and columns of used vertices only).
+/// The copies of a split non-manifold vertex are summed into its host vertex's row and
+/// column (no duplicate entries): the stiffness assembled on the host's faces.
 fn cotangent_stiffness(mesh: &MeshData) -> Result<ffi::TripletData, BridgeError> {
     guarded(|| {
         let host = mesh.0.used_vertices();
         let w = mesh.0.stiffness();
+        let mut entries: Vec<(u32, u32, f64)> = w.triplet_iter().map(|e| (host[e.row], host[e.col], *e.val)).collect();
+        if host.windows(2).any(|p| p[0] >= p[1]) {
+            entries.sort_unstable_by_key(|&(r, c, _)| (r, c));
+            entries.dedup_by(|later, kept| {
+                let same = (later.0, later.1) == (kept.0, kept.1);
+                if same {
+                    kept.2 += later.2;
+                }
+                same
+            });
+        }
         let mut t = ffi::TripletData { n: mesh.0.n_vertices(), rows: Vec::new(), cols: Vec::new(), values: Vec::new() };
-        for e in w.triplet_iter() {
-            t.rows.push(host[e.row]);
-            t.cols.push(host[e.col]);
-            t.values.push(*e.val);
+        for (r, c, v) in entries {
+            t.rows.push(r);
+            t.cols.push(c);
+            t.values.push(v);
         }
         Ok(t)
     })
@@ -383,6 +397,7 @@ fn localization_data(loc: Localization) -> ffi::LocalizationData {
         target_regular: loc.target_regular,
         target_si: loc.target_si,
         cost: loc.cost,
+        confidence: loc.confidence,
         selected_start: loc.selected_start,
         n_starts: loc.n_starts,
         timings,

@@ -43,7 +43,8 @@ impl HostMesh {
     }
 
     /// A host's arrays through the core intake ([`MeshIntake::from_flat`]): degenerate faces and
-    /// vertices in no face are left out, results come back in the host's numbering.
+    /// vertices in no face are left out, non-manifold edges and vertices split, results come
+    /// back in the host's numbering.
     pub(crate) fn from_host(xyz: &[f64], tri: &[u32]) -> Result<Self, Error> {
         let intake = MeshIntake::from_flat(xyz, tri)?;
         Ok(HostMesh { shape: Shape::new(intake.mesh.clone()), intake: Some(Arc::new(intake)) })
@@ -59,7 +60,8 @@ impl HostMesh {
         self.intake.as_ref().map_or(self.mesh().n_vertices(), |i| i.n_host_vertices)
     }
 
-    /// Host index of each vertex of [`HostMesh::mesh`] (increasing).
+    /// Host index of each vertex of [`HostMesh::mesh`]: the used host vertices, increasing, then
+    /// the copies of split non-manifold vertices (each its host vertex's index).
     pub(crate) fn used_vertices(&self) -> Vec<u32> {
         match &self.intake {
             Some(i) => i.kept.clone(),
@@ -100,10 +102,29 @@ pub(crate) struct HostMap {
 }
 
 impl HostMap {
-    /// `values` (one per mesh vertex) at the host's indices; `fill` at left-out vertices.
+    /// `values` (one per mesh vertex) at the host's indices; `fill` at left-out vertices; a
+    /// split host vertex takes its first copy's value ([`MeshIntake::to_host`]).
     pub(crate) fn to_host<T: Clone>(&self, values: Vec<T>, fill: T) -> Vec<T> {
         match &self.intake {
             Some(i) => i.to_host(&values, fill),
+            None => values,
+        }
+    }
+
+    /// A selection at the host's indices: a host vertex is selected if any of its copies is
+    /// ([`MeshIntake::to_host_any`]).
+    pub(crate) fn to_host_any(&self, selected: Vec<bool>) -> Vec<bool> {
+        match &self.intake {
+            Some(i) => i.to_host_any(&selected),
+            None => selected,
+        }
+    }
+
+    /// Amounts at the host's indices, summed over a split vertex's copies
+    /// ([`MeshIntake::to_host_sum`]).
+    pub(crate) fn to_host_sum(&self, values: Vec<f64>) -> Vec<f64> {
+        match &self.intake {
+            Some(i) => i.to_host_sum(&values),
             None => values,
         }
     }
@@ -161,13 +182,15 @@ pub(crate) fn localize(full: &HostMesh, partial: &HostMesh, options: &Options, p
 }
 
 /// A result's per-vertex arrays (region, score, potential, the candidates' regions) in the
-/// host's numbering of the full mesh, and the intakes' notes first among its warnings.
+/// host's numbering of the full mesh, and the intakes' notes first among its warnings. A
+/// split host vertex is in a region if any copy is; its score and potential are its first
+/// copy's.
 fn to_host(mut loc: Localization, full: &HostMap, partial: &HostMap) -> Localization {
-    loc.region = full.to_host(std::mem::take(&mut loc.region), false);
+    loc.region = full.to_host_any(std::mem::take(&mut loc.region));
     loc.score = full.to_host(std::mem::take(&mut loc.score), 0.0);
     loc.potential = full.to_host(std::mem::take(&mut loc.potential), 0.0);
     for c in &mut loc.candidates {
-        c.region = full.to_host(std::mem::take(&mut c.region), false);
+        c.region = full.to_host_any(std::mem::take(&mut c.region));
     }
     let notes = full.warning("full mesh").into_iter().chain(partial.warning("partial mesh"));
     loc.warnings = notes.chain(std::mem::take(&mut loc.warnings)).collect();
@@ -233,7 +256,7 @@ pub(crate) fn version_number() -> u32 {
 }
 
 /// Pointwise (angle-defect) Gaussian curvature, raw or one-ring smoothed (cached by the core),
-/// in the host's numbering (0 at left-out vertices).
+/// in the host's numbering (0 at left-out vertices; a split vertex's first copy's).
 pub(crate) fn gaussian_curvature(mesh: &HostMesh, smoothed: bool) -> Vec<f64> {
     let k = if smoothed { mesh.shape.smoothed_curvature() } else { mesh.shape.gaussian_curvature() };
     mesh.host_map().to_host(k.to_vec(), 0.0)
@@ -247,10 +270,10 @@ pub(crate) fn spectrum(mesh: &HostMesh, k: usize, metric: Metric, alpha: f64) ->
 }
 
 /// Mass diagonal of `metric` ([`Shape::metric_mass`]) in the host's numbering (0 at left-out
-/// vertices).
+/// vertices; a split vertex's copies summed, so the total is the mesh's).
 pub(crate) fn mass(mesh: &HostMesh, metric: Metric, alpha: f64) -> Result<Vec<f64>, Error> {
     let m = mesh.with_metric(metric, alpha, |s| Ok(s.metric_mass(metric).to_vec()))?;
-    Ok(mesh.host_map().to_host(m, 0.0))
+    Ok(mesh.host_map().to_host_sum(m))
 }
 
 /// The Hamiltonian eigenvalues at the optimum (`target = false`) or the partial shape's

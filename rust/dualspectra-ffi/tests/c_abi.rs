@@ -79,6 +79,7 @@ fn null_pointers_are_errors() {
         assert_eq!(ds_result_region(ptr::null(), ptr::null_mut(), 0), DS_INVALID_ARGUMENT);
         let mut c = 0.0;
         assert_eq!(ds_result_cost(ptr::null(), &mut c), DS_INVALID_ARGUMENT);
+        assert_eq!(ds_result_confidence(ptr::null(), &mut c), DS_INVALID_ARGUMENT);
         assert_eq!(ds_mesh_n_vertices(ptr::null()), 0);
         assert_eq!(ds_result_n_vertices(ptr::null()), 0);
         assert!(ds_result_warning(ptr::null(), 0).is_null());
@@ -316,6 +317,11 @@ fn localize_reports_progress_and_fills_every_accessor() {
         let mut cost = f64::NAN;
         assert_eq!(ds_result_cost(r, &mut cost), DS_OK);
         assert_eq!(cost, core.cost);
+        let mut confidence = f64::NAN;
+        assert_eq!(ds_result_confidence(r, &mut confidence), DS_OK);
+        assert!((0.0..=1.0).contains(&confidence), "{confidence}");
+        assert_eq!(confidence, core.confidence);
+        assert_eq!(ds_result_confidence(r, ptr::null_mut()), DS_INVALID_ARGUMENT);
         let mut t = ds_timings::default();
         assert_eq!(ds_result_timings(r, &mut t), DS_OK);
         let mut secs = 0.0;
@@ -642,10 +648,36 @@ fn host_meshes_the_intake_cannot_repair_are_refused_in_the_hosts_numbering() {
     let f = [0u32, 1, 2];
     assert_eq!(unsafe { ds_mesh_create_from_host(v.as_ptr(), 3, f.as_ptr(), 1, &mut h) }, DS_INVALID_MESH);
     assert!(last_error().contains("degenerate"), "{}", last_error());
-    // A loose vertex 0, then three triangles on the edge (1, 2): named as the host numbers it.
+    // A face naming a vertex the host does not have, as the host numbers it.
+    let f = [0u32, 1, 2, 0, 2, 7];
+    assert_eq!(unsafe { ds_mesh_create_from_host(v.as_ptr(), 3, f.as_ptr(), 2, &mut h) }, DS_INVALID_MESH);
+    assert!(last_error().contains("face 1 refers to vertex 7"), "{}", last_error());
+    assert!(h.is_null());
+}
+
+#[test]
+fn host_meshes_with_non_manifold_edges_are_split_and_said_so() {
+    // A loose vertex 0, then three triangles on the edge (1, 2): strictly refused; through
+    // the intake the third gets copies of 1 and 2, listed after the used host vertices.
     let v = [9.0, 9.0, 9.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.5, 1.0, 0.0, 0.5, -1.0, 0.0, 0.5, 0.0, 1.0];
     let f = [1u32, 2, 3, 2, 1, 4, 1, 2, 5];
-    assert_eq!(unsafe { ds_mesh_create_from_host(v.as_ptr(), 6, f.as_ptr(), 3, &mut h) }, DS_INVALID_MESH);
-    assert!(last_error().contains("edge (1, 2)"), "{}", last_error());
-    assert!(h.is_null());
+    let mut h = ptr::null_mut();
+    assert_eq!(unsafe { ds_mesh_create(v.as_ptr(), 6, f.as_ptr(), 3, &mut h) }, DS_INVALID_MESH);
+    assert!(last_error().contains("edge (1, 2) is shared by 3 faces"), "{}", last_error());
+    let host = host_mesh(&v, &f);
+    unsafe {
+        assert_eq!((ds_mesh_n_vertices(host.0), ds_mesh_n_used_vertices(host.0)), (6, 7));
+        let mut used = vec![0u32; 7];
+        assert_eq!(ds_mesh_used_vertices(host.0, used.as_mut_ptr(), used.len()), DS_OK);
+        assert_eq!(used, [1, 2, 3, 4, 5, 1, 2]);
+        let warning = CStr::from_ptr(ds_mesh_warning(host.0)).to_str().unwrap().to_owned();
+        assert!(warning.contains("split 1 non-manifold edge(s) and 2 non-manifold vertex(es)"), "{warning}");
+        // Per-vertex arrays stay in the host's numbering; a split vertex reads its first copy.
+        let mut k = vec![f64::NAN; 6];
+        assert_eq!(ds_gaussian_curvature(host.0, 0, k.as_mut_ptr(), k.len()), DS_OK);
+        let intake = dualspectra::mesh::intake::MeshIntake::from_flat(&v, &f).unwrap();
+        let core = dualspectra::geometry::gaussian_curvature(&intake.mesh);
+        assert_eq!(k, [0.0, core[0], core[1], core[2], core[3], core[4]]);
+        assert_ne!(core[0], core[5], "the copy of host vertex 1 is another fan");
+    }
 }

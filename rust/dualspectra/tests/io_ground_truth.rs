@@ -1,9 +1,10 @@
 //! Ground truth tied to a file's triangles after reading repaired the file (issue 23):
 //! SHREC'16 `.baryc_gt` rows name triangles of the FILE (1-based). When reading removes a
 //! two-sided flap, the later triangles are renumbered and the flap's tip vertex is dropped;
-//! the ground-truth mask must still mark the vertices of the triangles the rows name.
+//! the ground-truth mask must still mark the vertices of the triangles the rows name. When it
+//! splits a non-manifold vertex, a file vertex stands for all its copies.
 
-use dualspectra::evaluation::datasets::{ground_truth_mask, ground_truth_mask_in_file, parse_barycentric_gt, Pair};
+use dualspectra::evaluation::datasets::{ground_truth_mask, ground_truth_mask_in_file, parse_barycentric_gt, vertex_mask_in_file, Pair};
 use dualspectra::mesh::io::{read_mesh, read_mesh_with_report, ReadOptions};
 use dualspectra::Error;
 use std::path::{Path, PathBuf};
@@ -112,4 +113,27 @@ fn issue23_repeated_triangle_copy_in_ground_truth_marks_the_kept_copy() {
         got.sort_by(|a, b| a.partial_cmp(b).unwrap());
         assert_eq!(got, want, "record {t}");
     }
+}
+
+#[test]
+fn ground_truth_follows_a_split_non_manifold_vertex_to_all_its_copies() {
+    // A bow tie (vertex 0 joins two triangles) whose first triangle is listed twice: reading
+    // removes the copy (record 2) and gives vertex 0 a copy, mesh vertex 5, for the second fan.
+    let path = Path::new(env!("CARGO_TARGET_TMPDIR")).join("io_ground_truth_bow_tie.off");
+    std::fs::write(&path, "OFF\n5 3 0\n0 0 0\n1 0 0\n1 1 0\n-1 0 0\n-1 -1 0\n3 0 1 2\n3 0 3 4\n3 0 1 2\n").unwrap();
+    let (mesh, report) = read_mesh_with_report(&path, &ReadOptions::default()).unwrap();
+    assert_eq!(report.kept_vertices, vec![0, 1, 2, 3, 4, 0]);
+    assert_eq!(mesh.faces(), &[[0, 1, 2], [5, 3, 4]]);
+    let at = Path::new("rows");
+    let marked = |mask: Vec<bool>| (0..mask.len()).filter(|&v| mask[v]).collect::<Vec<_>>();
+    // A kept triangle marks its own corners: the first fan's vertex 0 only.
+    let rows = parse_barycentric_gt("1 1 0 0\n2 1 0 0\n", at).unwrap();
+    assert_eq!(marked(ground_truth_mask_in_file(&mesh, &report, &rows[..1], at).unwrap()), [0, 1, 2]);
+    assert_eq!(marked(ground_truth_mask_in_file(&mesh, &report, &rows[1..], at).unwrap()), [3, 4, 5]);
+    // The removed copy is known by its file vertices: file vertex 0 is both 0 and 5.
+    let removed = parse_barycentric_gt("3 1 0 0\n", at).unwrap();
+    assert_eq!(marked(ground_truth_mask_in_file(&mesh, &report, &removed, at).unwrap()), [0, 1, 2, 5]);
+    // So is a region given as file vertices.
+    let region = vertex_mask_in_file(&mesh, &report, &[0, 3], at).unwrap();
+    assert_eq!(marked(region), [0, 3, 5]);
 }

@@ -137,6 +137,9 @@ fn sources() -> Vec<(String, Vec<u8>)> {
     out
 }
 
+/// Reads whose mesh had non-manifold vertices split (mutations make some).
+static SPLIT_READS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+
 /// What one read gave: `Ok` (checked consistent) or the error's message; `Err` for a broken property.
 fn check_read(bytes: &[u8], format: MeshFormat) -> Result<Option<String>, String> {
     let path = Path::new("<mutated>");
@@ -144,13 +147,25 @@ fn check_read(bytes: &[u8], format: MeshFormat) -> Result<Option<String>, String
     match read {
         Err(_) => Err("panicked".into()),
         Ok(Ok((mesh, report))) => {
+            // kept_vertices: the file's vertices kept, strictly increasing, then the copies of
+            // the split non-manifold vertices, each a kept vertex, as many distinct as counted.
+            let (kept, copies) = report.kept_vertices.split_at(report.kept_vertices.len() - report.n_copies());
+            let mut copied: Vec<u32> = copies.to_vec();
+            copied.sort_unstable();
+            copied.dedup();
             let consistent = report.kept_vertices.len() == mesh.n_vertices()
                 && report.face_origin.len() == mesh.n_faces()
-                && report.kept_vertices.windows(2).all(|w| w[0] < w[1])
+                && kept.windows(2).all(|w| w[0] < w[1])
+                && copies.iter().all(|v| kept.binary_search(v).is_ok())
+                && copied.len() == report.non_manifold_vertices_split
+                && (report.non_manifold_edges_split == 0 || !copies.is_empty())
                 && report.kept_vertices.iter().all(|&v| (v as usize) < report.file_vertices)
                 && report.face_origin.iter().all(|&r| (r as usize) < report.file_faces)
                 && TriMesh::new(mesh.vertices().to_vec(), mesh.faces().to_vec()).is_ok();
             if consistent {
+                if !copies.is_empty() {
+                    SPLIT_READS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                }
                 Ok(None)
             } else {
                 Err(format!("an inconsistent mesh and report: {report:?}"))
@@ -219,9 +234,95 @@ fn issue23_mutated_files_read_or_fail_cleanly_in_bounded_time() {
     }
     std::panic::set_hook(hook);
     let seconds = start.elapsed().as_secs_f64();
-    println!("issue23 mutation: {n} cases ({ok} read, {errors} errors) in {seconds:.2} s");
+    let split = SPLIT_READS.load(std::sync::atomic::Ordering::Relaxed);
+    println!("issue23 mutation: {n} cases ({ok} read, {split} of them split, {errors} errors) in {seconds:.2} s");
     assert!(broken.is_empty(), "{} of {n} cases broke a property:\n{}", broken.len(), broken.join("\n"));
     // Both outcomes occur (the mutations are neither all harmless nor all fatal).
     assert!(ok > n / 20 && errors > n / 2, "{ok} read, {errors} errors");
+    assert!(split > 0, "no read split a non-manifold vertex");
     assert!(seconds < 30.0, "{seconds:.1} s");
+}
+
+/// Peak resident memory of this process so far (`VmHWM`, kB; 0 where unknown).
+fn peak_rss_kb() -> u64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| s.lines().find(|l| l.starts_with("VmHWM:")).and_then(|l| l.split_whitespace().nth(1)?.parse().ok()))
+        .unwrap_or(0)
+}
+
+/// A time-bounded fuzz run per reader: mutated files (one to three mutations of a valid
+/// source) read until the time is up, with the properties of the test above. 5 s per
+/// reader by default; `DUALSPECTRA_FUZZ_SECONDS=600` for the long runs of
+/// docs/benchmarks/ (prints executions, outcomes, slowest case, peak memory).
+#[test]
+fn issue23_fuzz_each_reader_for_a_bounded_time() {
+    let seconds: f64 = std::env::var("DUALSPECTRA_FUZZ_SECONDS").ok().and_then(|s| s.parse().ok()).unwrap_or(5.0);
+    let hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(|_| {}));
+    let all = sources();
+    for format in [MeshFormat::Off, MeshFormat::Obj, MeshFormat::Ply] {
+        let mine: Vec<Vec<u8>> = all
+            .iter()
+            .filter(|(n, _)| MeshFormat::from_path(Path::new(n)).ok() == Some(format))
+            .map(|(_, b)| b.clone())
+            .collect();
+        let (tx, rx) = mpsc::channel::<(String, Vec<u8>, Result<Option<String>, String>, Duration)>();
+        let until = Instant::now() + Duration::from_secs_f64(seconds);
+        let worker = std::thread::spawn(move || {
+            let mut rng = Rng(SEED ^ format as u64);
+            let mut k = 0usize;
+            while Instant::now() < until {
+                let source = &mine[k % mine.len()];
+                k += 1;
+                let (mut b, mut what) = mutate(&mut rng, source);
+                for _ in 0..rng.below(3) {
+                    let (b2, w2) = mutate(&mut rng, &b);
+                    b = b2;
+                    what = format!("{what}; {w2}");
+                }
+                let t = Instant::now();
+                let outcome = check_read(&b, format);
+                if tx.send((what, b, outcome, t.elapsed())).is_err() {
+                    return;
+                }
+            }
+        });
+        let (mut runs, mut ok, mut errors) = (0usize, 0usize, 0usize);
+        let mut slowest = (Duration::ZERO, String::new());
+        loop {
+            match rx.recv_timeout(READ_LIMIT) {
+                Ok((what, bytes, outcome, took)) => {
+                    runs += 1;
+                    if took > slowest.0 {
+                        slowest = (took, what.clone());
+                    }
+                    match outcome {
+                        Ok(None) => ok += 1,
+                        Ok(Some(_)) => errors += 1,
+                        Err(problem) => {
+                            std::panic::set_hook(hook);
+                            let file = tmp(&format!("fuzz_failing_{runs}.bin"));
+                            std::fs::write(&file, bytes).unwrap();
+                            panic!("{format:?} fuzz case {runs} ({what}, saved as {}): {problem}", file.display());
+                        }
+                    }
+                }
+                Err(mpsc::RecvTimeoutError::Disconnected) => break,
+                Err(mpsc::RecvTimeoutError::Timeout) => {
+                    std::panic::set_hook(hook);
+                    panic!("{format:?} fuzz: a read gave no answer within {READ_LIMIT:?} after {runs} cases");
+                }
+            }
+        }
+        worker.join().unwrap();
+        println!(
+            "issue23 fuzz {format:?}: {runs} executions in {seconds} s ({ok} read, {errors} errors, 0 panics, 0 hangs); slowest {:.2} ms ({}); peak RSS {} MB",
+            slowest.0.as_secs_f64() * 1e3,
+            slowest.1,
+            peak_rss_kb() / 1024
+        );
+        assert!(runs > 0 && ok > 0 && errors > 0, "{format:?}: {runs} runs, {ok} read, {errors} errors");
+    }
+    std::panic::set_hook(hook);
 }

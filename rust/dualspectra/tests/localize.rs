@@ -1,6 +1,7 @@
 //! End-to-end laws of the localizer on small generated shapes (seconds, not minutes).
 
 use dualspectra::mesh::generate::icosphere;
+use dualspectra::mesh::intake::MeshIntake;
 use dualspectra::{localize, Error, Localizer, Mode, Options, Progress, TriMesh};
 
 /// An asymmetric closed shape: a unit icosphere with three bumps of different sizes.
@@ -192,6 +193,38 @@ fn disconnected_partial_keeps_largest_component_with_a_warning() {
     let (_, main) = cut(&full, |p| p[2] > 0.1);
     let _ = truth;
     assert!(iou(&res.region, &main) > 0.85);
+}
+
+#[test]
+fn scan_like_partial_with_non_manifold_edge_vertex_and_island_localizes_with_warning() {
+    // A cap (z > 0.1) and a small island (z < -0.95), as raw arrays; then two flaps on one
+    // interior edge of the cap (four faces on it) and a triangle touching the cap at one
+    // vertex only (a bow tie).
+    let full = bumpy_sphere(3);
+    let (part, _) = cut(&full, |p| p[2] > 0.1 || p[2] < -0.95);
+    let (mut v, mut f) = part.into_parts();
+    let counts = dualspectra::mesh::topology::edge_face_counts(&TriMesh::new(v.clone(), f.clone()).unwrap());
+    let (&(a, b), _) = counts.iter().filter(|(&(a, b), &c)| c == 2 && v[a as usize][2] > 0.5 && v[b as usize][2] > 0.5).min().unwrap();
+    let c = (0..v.len() as u32).find(|&i| v[i as usize][2] > 0.3 && i != a && i != b && !counts.contains_key(&(a.min(i), a.max(i)))).unwrap();
+    let scaled = |p: [f64; 3], s: f64, d: [f64; 3]| [p[0] * s + d[0], p[1] * s + d[1], p[2] * s + d[2]];
+    let (pa, pb, pc) = (v[a as usize], v[b as usize], v[c as usize]);
+    let mid = scaled(pa, 0.5, scaled(pb, 0.5, [0.0; 3]));
+    let n = v.len() as u32;
+    v.extend([scaled(mid, 1.05, [0.0; 3]), scaled(mid, 0.95, [0.0; 3])]);
+    v.extend([scaled(pc, 1.05, [0.03, 0.0, 0.0]), scaled(pc, 1.05, [0.0, 0.03, 0.0])]);
+    f.extend([[a, b, n], [b, a, n + 1], [c, n + 2, n + 3]]);
+    assert!(TriMesh::new(v.clone(), f.clone()).is_err());
+    let intake = MeshIntake::new(v, f).unwrap();
+    let note = intake.warning("partial mesh").unwrap();
+    assert!(note.contains("split 1 non-manifold edge(s) and 3 non-manifold vertex(es) (5 vertex copies"), "{note}");
+    let res = localize(&full, &intake.mesh, &quick(), &Progress::none()).unwrap();
+    // The flaps, the bow tie's triangle and the island are components of their own: the
+    // largest one is located, with a warning.
+    assert!(res.warnings.iter().any(|w| w.contains("disconnected")), "{:?}", res.warnings);
+    let (_, main) = cut(&full, |p| p[2] > 0.1);
+    let score = iou(&res.region, &main);
+    eprintln!("scan-like partial: IoU {score:.3}, warnings {:?}", res.warnings);
+    assert!(score > 0.85, "IoU {score}");
 }
 
 #[test]

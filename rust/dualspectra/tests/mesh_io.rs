@@ -295,6 +295,7 @@ fn two_sided_flaps_are_removed_with_their_tip() {
     assert_eq!(mesh, tet);
     let strict = ReadOptions {
         remove_duplicate_faces: false,
+        split_non_manifold: false,
         ..ReadOptions::default()
     };
     let err = read_mesh_with_report(&data("flap.off"), &strict).unwrap_err();
@@ -308,6 +309,43 @@ fn two_sided_flaps_are_removed_with_their_tip() {
         ),
         "{err:?}"
     );
+}
+
+#[test]
+fn an_edge_of_four_faces_is_split_with_counts_and_a_many_to_one_map() {
+    // A square (0, 2, 1, 3) and two flaps (0, 1, 4), (1, 0, 5) on its diagonal edge (0, 1),
+    // and a loose vertex 6 (dropped): faces 0 and 1 (0 -> 1, then 1 -> 0) stay joined, the
+    // flaps get copies of 0 and 1 and come off as two triangles.
+    let path = tmp("edge_of_four_faces.off");
+    std::fs::write(
+        &path,
+        "OFF\n7 4 0\n0 0 0\n1 1 0\n1 0 0\n0 1 0\n0.5 0.5 1\n0.5 0.5 -1\n9 9 9\n\
+         3 0 1 3\n3 1 0 2\n3 0 1 4\n3 1 0 5\n",
+    )
+    .unwrap();
+    let options = ReadOptions { drop_isolated: true, ..ReadOptions::default() };
+    let (mesh, report) = read_mesh_with_report(&path, &options).unwrap();
+    assert_eq!((report.non_manifold_edges_split, report.non_manifold_vertices_split), (1, 2));
+    assert_eq!((report.isolated_dropped, report.n_copies()), (1, 4));
+    assert_eq!(report.kept_vertices, vec![0, 1, 2, 3, 4, 5, 0, 1, 1, 0]);
+    assert_eq!(mesh.faces(), &[[0, 1, 3], [1, 0, 2], [6, 7, 4], [8, 9, 5]]);
+    assert_eq!(report.face_origin, vec![0, 1, 2, 3]);
+    // Copies sit at their file vertex; the mesh is the square plus two loose triangles.
+    let file = [[0.0, 0.0, 0.0], [1.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.5, 0.5, 1.0], [0.5, 0.5, -1.0]];
+    for (m, &f) in report.kept_vertices.iter().enumerate() {
+        assert_eq!(mesh.vertices()[m], file[f as usize]);
+    }
+    assert_eq!(dualspectra::mesh::topology::connected_components(&mesh).1, 3);
+    let w = report.non_manifold_warning().unwrap();
+    assert!(w.contains("split 1 non-manifold edge(s) and 2 non-manifold vertex(es): 4 vertex copies"), "{w}");
+    // Off, the file is refused in its own numbering.
+    let strict = ReadOptions { split_non_manifold: false, ..options };
+    match read_mesh_with_report(&path, &strict).unwrap_err() {
+        Error::InvalidMeshFile { source, .. } => {
+            assert_eq!(source, dualspectra::MeshError::NonManifoldEdge { a: 0, b: 1, count: 4 })
+        }
+        other => panic!("{other:?}"),
+    }
 }
 
 #[test]

@@ -1,8 +1,11 @@
 //! Every way a mesh file can be bad gives its own typed error naming the file, in the
 //! file's own numbering; nothing panics. One small file per case in `tests/data/`.
 
+use dualspectra::mesh::generate::icosphere;
+use dualspectra::mesh::intake::MeshIntake;
 use dualspectra::mesh::io::{read_mesh, read_mesh_with_report, ReadOptions};
-use dualspectra::{Error, MeshError};
+use dualspectra::shape::{Metric, Shape};
+use dualspectra::{Error, MeshError, TriMesh};
 use std::path::{Path, PathBuf};
 
 fn data(name: &str) -> PathBuf {
@@ -98,11 +101,72 @@ fn degenerate_and_repeated_vertex_faces_are_rejected_with_the_file_face_number()
 }
 
 #[test]
-fn non_manifold_edge_is_rejected() {
-    assert_eq!(
-        mesh_error("nonmanifold_edge.off"),
-        MeshError::NonManifoldEdge { a: 0, b: 1, count: 3 }
-    );
+fn non_manifold_edge_is_split_by_default_and_rejected_without_the_split() {
+    let path = data("nonmanifold_edge.off");
+    let strict = ReadOptions { split_non_manifold: false, ..ReadOptions::default() };
+    match read_mesh_with_report(&path, &strict).unwrap_err() {
+        Error::InvalidMeshFile { source, .. } => assert_eq!(source, MeshError::NonManifoldEdge { a: 0, b: 1, count: 3 }),
+        other => panic!("{other:?}"),
+    }
+    // Faces 0 (0 -> 1) and 1 (1 -> 0) stay joined; face 2 gets copies of 0 and 1.
+    let (mesh, report) = read_mesh_with_report(&path, &ReadOptions::default()).unwrap();
+    assert_eq!((report.non_manifold_edges_split, report.non_manifold_vertices_split), (1, 2));
+    assert_eq!(report.kept_vertices, vec![0, 1, 2, 3, 4, 0, 1]);
+    assert_eq!(mesh.faces(), &[[0, 1, 2], [1, 0, 3], [5, 6, 4]]);
+}
+
+/// A bow tie: two triangles sharing vertex 0 and nothing else.
+fn bow_tie() -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+    let v = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [-1.0, -1.0, 0.0]];
+    (v, vec![[0, 1, 2], [0, 3, 4]])
+}
+
+#[test]
+fn non_manifold_vertex_is_rejected_by_the_strict_constructor_and_split_by_the_reader() {
+    let (v, f) = bow_tie();
+    assert_eq!(TriMesh::new(v.clone(), f.clone()), Err(MeshError::NonManifoldVertex { vertex: 0, fans: 2 }));
+    // The smallest such vertex is named, with its number of fans: here vertex 1 has three.
+    let v3 = vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [2.0, 0.0, 0.0], [2.0, 1.0, 0.0], [3.0, 0.0, 1.0], [3.0, 1.0, 1.0]];
+    let f3 = vec![[1, 2, 0], [1, 3, 4], [1, 5, 6]];
+    assert_eq!(TriMesh::new(v3, f3), Err(MeshError::NonManifoldVertex { vertex: 1, fans: 3 }));
+    // A file with the bow tie reads split, and without the split is refused.
+    let path = tmp("bow_tie.off");
+    std::fs::write(&path, "OFF\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n-1 0 0\n-1 -1 0\n3 0 1 2\n3 0 3 4\n").unwrap();
+    let (mesh, report) = read_mesh_with_report(&path, &ReadOptions::default()).unwrap();
+    assert_eq!((report.non_manifold_edges_split, report.non_manifold_vertices_split), (0, 1));
+    assert_eq!((mesh.n_vertices(), report.kept_vertices[5]), (6, 0));
+    let strict = ReadOptions { split_non_manifold: false, ..ReadOptions::default() };
+    match read_mesh_with_report(&path, &strict).unwrap_err() {
+        Error::InvalidMeshFile { source, .. } => assert_eq!(source, MeshError::NonManifoldVertex { vertex: 0, fans: 2 }),
+        other => panic!("{other:?}"),
+    }
+}
+
+/// Issue 23, item 5: two spheres glued at one vertex were accepted as one surface, and its
+/// Laplace spectrum `[0, 0.152, 2, 2, 2]` had an artefact (0.152) from the pinch. Through the
+/// intake the vertex is split and reported, and the spectrum is that of two spheres.
+#[test]
+fn hostile_05_glued_spheres_are_split_and_reported() {
+    let sphere = icosphere(2);
+    let n = sphere.n_vertices() as u32;
+    // The second sphere: the first reflected through its vertex 0 (faces reversed to keep
+    // the orientation), its vertex 0 the first's.
+    let p = sphere.vertices()[0];
+    let mut v = sphere.vertices().to_vec();
+    v.extend(sphere.vertices()[1..].iter().map(|q| [2.0 * p[0] - q[0], 2.0 * p[1] - q[1], 2.0 * p[2] - q[2]]));
+    let other = |i: u32| if i == 0 { 0 } else { n + i - 1 };
+    let mut f = sphere.faces().to_vec();
+    f.extend(sphere.faces().iter().map(|t| [other(t[0]), other(t[2]), other(t[1])]));
+    assert_eq!(TriMesh::new(v.clone(), f.clone()), Err(MeshError::NonManifoldVertex { vertex: 0, fans: 2 }));
+    let intake = MeshIntake::new(v, f).unwrap();
+    let w = intake.warning("mesh").unwrap();
+    assert!(w.contains("split 0 non-manifold edge(s) and 1 non-manifold vertex(es) (1 vertex copies"), "{w}");
+    assert_eq!((intake.mesh.n_vertices(), intake.kept[2 * n as usize - 1]), (2 * n as usize, 0));
+    let values = Shape::new(intake.mesh).dirichlet_spectrum(Metric::Regular, 5).unwrap().values;
+    eprintln!("glued spheres, split: spectrum {values:?}");
+    // Two components: two zero eigenvalues, then the sphere's l = 1 triple near 2.
+    assert!(values[0].abs() < 1e-8 && values[1].abs() < 1e-8, "{values:?}");
+    assert!(values[2..].iter().all(|&l| (l - 2.0).abs() < 0.1), "{values:?}");
 }
 
 #[test]

@@ -73,6 +73,8 @@ pub struct PairResult {
     /// IoU against the direct ground truth weighted by vertex area.
     pub area_iou: f64,
     pub cost: f64,
+    /// The localizer's confidence in the region (0 for a failed pair).
+    pub confidence: f64,
     pub seconds: f64,
     /// Seconds per stage of the localizer (zero for a failed pair).
     pub timings: Timings,
@@ -198,6 +200,7 @@ fn run_pair(
         matched,
         area_iou,
         cost: loc.cost,
+        confidence: loc.confidence,
         seconds,
         timings: Timings { preparation: seconds - loc.timings.total, ..loc.timings.clone() },
         error: None,
@@ -299,7 +302,7 @@ pub fn cumulative_iou_svg(title: &str, curves: &[(String, Vec<f64>)]) -> Result<
 fn print_row(r: &PairResult) {
     match &r.error {
         None => println!(
-            "{:<28} {:>6} {:>6} {:>6.3} {:>6.3} {:>6.3} {:>8.3} {:>8.2}",
+            "{:<28} {:>6} {:>6} {:>6.3} {:>6.3} {:>6.3} {:>8.3} {:>5.2} {:>8.2}",
             r.name,
             r.region_size,
             r.gt_size,
@@ -307,6 +310,7 @@ fn print_row(r: &PairResult) {
             r.scores.recall,
             r.scores.iou,
             r.scores_sym.iou,
+            r.confidence,
             r.seconds
         ),
         Some(e) => println!("{:<28} failed: {e}", r.name),
@@ -331,8 +335,8 @@ fn select_pairs(dataset: &Dataset, args: &Args) -> Result<Vec<Pair>, CliError> {
 /// Run and print one set; `Err` only for cancellation or a dataset that cannot be listed.
 fn run_set(dataset: &Dataset, pairs: &[Pair], options: &Options, quiet: bool) -> Result<Vec<PairResult>, CliError> {
     println!(
-        "{:<28} {:>6} {:>6} {:>6} {:>6} {:>6} {:>8} {:>8}",
-        "pair", "|R|", "|G|", "prec", "recall", "IoU", "IoU_sym", "seconds"
+        "{:<28} {:>6} {:>6} {:>6} {:>6} {:>6} {:>8} {:>5} {:>8}",
+        "pair", "|R|", "|G|", "prec", "recall", "IoU", "IoU_sym", "conf", "seconds"
     );
     let n = pairs.len();
     let set = dataset.root().file_name().map_or_else(String::new, |s| s.to_string_lossy().into_owned());
@@ -352,6 +356,7 @@ fn run_set(dataset: &Dataset, pairs: &[Pair], options: &Options, quiet: bool) ->
             matched: Match::Direct,
             area_iou: 0.0,
             cost: f64::NAN,
+            confidence: 0.0,
             seconds: 0.0,
             timings: Timings::default(),
             error: Some(e.to_string().split_whitespace().collect::<Vec<_>>().join(" ")),
@@ -569,6 +574,7 @@ mod tests {
             matched: Match::Direct,
             area_iou: 1.0,
             cost: 0.0,
+            confidence: 1.0,
             seconds: 3.0,
             timings: Timings { optimisation: 2.5, total: 3.0, ..Timings::default() },
             error: None,

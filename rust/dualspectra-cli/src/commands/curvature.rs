@@ -8,10 +8,11 @@
 //! `--json`, to standard output otherwise. Arrays follow the file's vertex
 //! numbering; a vertex that reading dropped (isolated with `--drop-isolated`, or the tip
 //! of a removed two-sided flap) gets `null`, and `"warnings"` says how many were dropped
-//! and why (each warning is also printed on standard error).
+//! and why, and how many non-manifold vertices were split (a split vertex gets its first
+//! copy's values); each warning is also printed on standard error.
 
 use crate::error::CliError;
-use crate::input::{dropped_vertex_warnings, read_input_mesh, to_file_vertices};
+use crate::input::{read_input_mesh, read_warnings, to_file_vertices};
 use crate::output::{print_stdout, to_json_line, write_text};
 use dualspectra::shape::Shape;
 use serde::Serialize;
@@ -34,13 +35,13 @@ pub struct Args {
 struct Output {
     gaussian_curvature: Vec<Option<f64>>,
     smoothed: Vec<Option<f64>>,
-    /// What reading dropped (the reason for every `null`); empty if nothing.
+    /// What reading dropped (the reason for every `null`) or split; empty if nothing.
     warnings: Vec<String>,
 }
 
 pub fn run(args: Args) -> Result<(), CliError> {
     let (mesh, report) = read_input_mesh(&args.mesh, args.drop_isolated)?;
-    let warnings = dropped_vertex_warnings(&report);
+    let warnings = read_warnings(&report);
     for w in &warnings {
         eprintln!("warning: {}: {w}", args.mesh.display());
     }

@@ -239,13 +239,17 @@ pub fn write_region_ply(path: &Path, mesh: &TriMesh, region: &[bool]) -> Result<
 
 /// What reading repaired in a file, as a warning (`None` if nothing).
 pub fn repair_warning(what: &str, report: &dualspectra::mesh::io::ReadReport) -> Option<String> {
-    let dropped = report.file_vertices - report.kept_vertices.len();
-    (dropped > 0 || report.duplicate_faces_removed > 0).then(|| {
-        format!(
-            "{what}: reading removed {} repeated triangle(s) and dropped {dropped} vertex(es); indices refer to the file's vertices",
+    let kept = report.kept_vertices.len() - report.n_copies();
+    let dropped = report.file_vertices - kept;
+    let mut parts = Vec::new();
+    if dropped > 0 || report.duplicate_faces_removed > 0 {
+        parts.push(format!(
+            "reading removed {} repeated triangle(s) and dropped {dropped} vertex(es)",
             report.duplicate_faces_removed
-        )
-    })
+        ));
+    }
+    parts.extend(report.non_manifold_warning());
+    (!parts.is_empty()).then(|| format!("{what}: {}; indices refer to the file's vertices", parts.join("; ")))
 }
 
 pub fn run(args: Args) -> Result<(), CliError> {
@@ -260,8 +264,11 @@ pub fn run(args: Args) -> Result<(), CliError> {
         [repair_warning("FULL", &full_report), repair_warning("PARTIAL", &partial_report)].into_iter().flatten().collect();
     loc.warnings.splice(0..0, repairs);
     let mut out = Output::new(&loc, &options, seconds, &full, &partial);
-    // Indices of the file's vertices (reading may have dropped some).
+    // Indices of the file's vertices (reading may have dropped some, or split one into
+    // copies: a vertex is in the region if any of its copies is).
     out.region = out.region.iter().map(|&i| full_report.kept_vertices[i] as usize).collect();
+    out.region.sort_unstable();
+    out.region.dedup();
     out.n_vertices_full = full_report.file_vertices;
     out.n_vertices_partial = partial_report.file_vertices;
     let text = to_json_line(&out)?;

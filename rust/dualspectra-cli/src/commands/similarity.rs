@@ -174,7 +174,10 @@ pub fn run(args: Args) -> Result<(), CliError> {
     let mut dnas = Vec::with_capacity(args.meshes.len());
     for (i, path) in args.meshes.iter().enumerate() {
         bar.set_message(names[i].clone());
-        let (mesh, _) = read_input_mesh(path, args.drop_isolated)?;
+        let (mesh, report) = read_input_mesh(path, args.drop_isolated)?;
+        if let Some(w) = report.non_manifold_warning() {
+            bar.suspend(|| eprintln!("warning: {}: {w}", path.display()));
+        }
         let dna = dual_shape_dna(&mesh, args.k).map_err(|e| match e {
             dualspectra::Error::InvalidArgument(m) => {
                 CliError::Usage(format!("{}: {m}", path.display()))

@@ -6,7 +6,8 @@
 //! on the boundary vertices if the mesh has a boundary (docs/algorithm.md, "Spectra"). Computed
 //! by `dualspectra::shape::Shape::dirichlet_spectrum` on the mesh as given (no rescaling;
 //! $\epsilon = 10^{-8}$ in the mesh's units). Prints `{"eigenvalues": [...]}` (ascending)
-//! and also writes it to `OUT` with `--json`.
+//! and also writes it to `OUT` with `--json`. A file with non-manifold edges or vertices is
+//! read split (`dualspectra::mesh::io`), with a warning on standard error.
 
 use crate::error::CliError;
 use crate::input::read_input_mesh;
@@ -65,7 +66,10 @@ pub fn run(args: Args) -> Result<(), CliError> {
     if args.k == 0 {
         return Err(CliError::Usage("--k must be at least 1".into()));
     }
-    let (mesh, _) = read_input_mesh(&args.mesh, args.drop_isolated)?;
+    let (mesh, report) = read_input_mesh(&args.mesh, args.drop_isolated)?;
+    if let Some(w) = report.non_manifold_warning() {
+        eprintln!("warning: {}: {w}", args.mesh.display());
+    }
     let shape = Shape::with_metric_params(mesh, alpha, DEFAULT_EPS);
     let metric = match args.metric {
         MetricArg::Regular => Metric::Regular,

@@ -9,10 +9,11 @@ stiffness, lumped mass, Gaussian curvature, Dirichlet spectra) are exposed too.
 Meshes are passed as two array-likes: vertices ``V`` of shape ``(n, 3)`` (anything
 convertible to float64) and faces ``F`` of shape ``(m, 3)`` (integers, 0-based). Every
 computation runs in the Rust core ``dualspectra`` with the GIL released; this module only
-converts arrays. The localizer takes meshes as editors hold them: faces that repeat a vertex
-or have zero area, and vertices in no face, are left out (a :class:`DualspectraWarning` and
-:attr:`Localization.warnings` say so), and every per-vertex result is indexed by the
-caller's vertices. The operators need clean meshes (their results are indexed by every
+converts arrays. The localizer takes meshes as editors and scanners hold them: faces that
+repeat a vertex or have zero area, and vertices in no face, are left out, and non-manifold
+edges and vertices are split (a :class:`DualspectraWarning` and :attr:`Localization.warnings`
+say so), and every per-vertex result is indexed by the caller's vertices (a split vertex is
+in the region if any of its copies is). The operators need clean meshes (their results are indexed by every
 given vertex) and raise :class:`MeshError` instead.
 
 The localizer's options (``k``, ``mode``, ...) are keyword arguments named as in the core's
@@ -24,12 +25,13 @@ Errors: :class:`MeshError` (a ``ValueError``) for invalid meshes or mesh files,
 (a ``RuntimeError``) when a numerical step fails, ``ValueError`` for bad arguments,
 ``OSError`` for unreadable files, ``TypeError`` for arrays or values of the wrong kind.
 
-Warnings: what the core repaired or skipped (dropped faces and vertices, a disconnected
-partial reduced to its largest component, a decimation that fell back to the full
-resolution) is kept in :attr:`Localization.warnings` and :attr:`Localizer.warnings`, and
-emitted once through :func:`warnings.warn` as :class:`DualspectraWarning`: by
-:class:`Localizer` for the full mesh and its preparation, by :meth:`Localizer.locate` for
-what concerns that partial, by :func:`localize` for all of them. Silence them with
+Warnings: what the core repaired or skipped (dropped faces and vertices, split non-manifold
+edges and vertices, a disconnected partial reduced to its largest component, a decimation
+that fell back to the full resolution) is kept in :attr:`Localization.warnings` and
+:attr:`Localizer.warnings`, and emitted once through :func:`warnings.warn` as
+:class:`DualspectraWarning`: by :class:`Localizer` for the full mesh and its preparation, by
+:meth:`Localizer.locate` for what concerns that partial, by :func:`localize` for all of them
+(and by :func:`read_mesh` for its split). Silence them with
 ``warnings.simplefilter("ignore", dualspectra.DualspectraWarning)``.
 """
 
@@ -266,8 +268,9 @@ def localize(
 
     Returns:
         A :class:`Localization` (``region`` boolean mask over the ``n`` full-mesh vertices,
-        soft ``score``, ``potential``, spectra, ``cost``, ``candidates``, ``timings``,
-        ``warnings``).
+        soft ``score``, ``potential``, spectra, ``cost``, ``confidence`` (in [0, 1], the
+        estimated probability that ``region`` overlaps the true region with IoU >= 0.5),
+        ``candidates``, ``timings``, ``warnings``).
 
     Raises:
         MeshError: a mesh is invalid. Cancelled: the callback returned ``False``. An
@@ -366,14 +369,19 @@ def read_mesh(
 
     Polygons are fan-triangulated. A triangle listed twice in opposite orientations (a
     two-sided "flap", as in SHREC'16 ``cat.off``) is removed, and so is its tip vertex if no
-    other face uses it, so rows of ``V`` may then differ from the file's vertex records: with
+    other face uses it. Non-manifold edges (in more than two faces) and vertices (whose faces
+    form several fans), as raw scans have, are split: each extra fan gets a copy of the
+    vertex, appended after the file's vertices, and a :class:`DualspectraWarning` says how
+    many. So rows of ``V`` may differ from the file's vertex records: with
     ``return_kept=True`` a third array ``kept (n,) int64`` gives the file's record of each row
-    (``np.arange(n)`` when nothing was dropped). Any other vertex in no face is an error.
+    (``np.arange(n)`` when nothing was dropped or split; a split vertex's copies repeat its
+    record). Any other vertex in no face is an error.
 
     Raises ``OSError`` if the file cannot be read and :class:`MeshError` if its content is
     not a valid triangle mesh.
     """
-    v, f, kept = _dualspectra.read_mesh(os.fspath(path))
+    v, f, kept, notes = _dualspectra.read_mesh(os.fspath(path))
+    _warn(notes)
     return (v, f, kept) if return_kept else (v, f)
 
 

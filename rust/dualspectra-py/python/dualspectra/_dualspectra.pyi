@@ -102,6 +102,10 @@ class Localization:
     def cost(self) -> float:
         """Final alignment cost of the selected start."""
     @property
+    def confidence(self) -> float:
+        """How much to trust the region, in [0, 1]: the estimated probability that it overlaps
+        the true region with IoU >= 0.5. Reject matches below a threshold of your choice."""
+    @property
     def selected_start(self) -> int:
         """Index of the selected start in ``candidates``."""
     @property
@@ -167,4 +171,4 @@ def cotangent_stiffness(
     vertices: NDArray[np.float64], faces: NDArray[np.int64]
 ) -> Tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.int64], int]: ...
 def lumped_mass(vertices: NDArray[np.float64], faces: NDArray[np.int64]) -> NDArray[np.float64]: ...
-def read_mesh(path: str) -> Tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.int64]]: ...
+def read_mesh(path: str) -> Tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.int64], List[str]]: ...

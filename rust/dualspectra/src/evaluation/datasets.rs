@@ -325,9 +325,10 @@ pub fn ground_truth_mask(
 /// Ground-truth mask over the vertices of a full shape read from a file, for rows that
 /// name the file's triangles: each row's triangle goes through the read report, so the
 /// mask is right when reading triangulated polygons, removed repeated triangles or
-/// two-sided flaps (which renumbers the later triangles), or dropped vertices. A row whose
-/// triangle reading removed marks the triangle's vertices the mesh kept (a flap's base,
-/// not its tip); a row none of whose vertices is left is an error, as is a row out of range.
+/// two-sided flaps (which renumbers the later triangles), dropped vertices, or split
+/// non-manifold vertices. A row whose triangle reading removed marks the triangle's
+/// vertices the mesh kept, each with all its copies (a flap's base, not its tip); a row
+/// none of whose vertices is left is an error, as is a row out of range.
 pub fn ground_truth_mask_in_file(
     full: &TriMesh,
     report: &ReadReport,
@@ -345,10 +346,18 @@ pub fn ground_truth_mask_in_file(
     for r in 0..n_records {
         first[r + 1] += first[r];
     }
+    // File vertex -> mesh vertex, and (file vertex, mesh vertex) of the copies made by the
+    // non-manifold split, sorted: a file vertex stands for all its copies.
     let mut mesh_vertex = vec![u32::MAX; report.file_vertices];
+    let mut copies: Vec<(u32, u32)> = Vec::new();
     for (m, &f) in report.kept_vertices.iter().enumerate() {
-        mesh_vertex[f as usize] = m as u32;
+        match mesh_vertex.get_mut(f as usize) {
+            Some(slot) if *slot == u32::MAX => *slot = m as u32,
+            Some(_) => copies.push((f, m as u32)),
+            None => {}
+        }
     }
+    copies.sort_unstable();
     let mut mask = vec![false; full.n_vertices()];
     for (r, row) in rows.iter().enumerate() {
         let t = row.triangle as usize;
@@ -372,7 +381,11 @@ pub fn ground_truth_mask_in_file(
         let removed = &report.removed_triangles;
         let from = removed.partition_point(|&(rec, _)| (rec as usize) < t);
         for (_, tri) in removed[from..].iter().take_while(|&&(rec, _)| rec as usize == t) {
-            tri.iter().for_each(|&v| mark(mesh_vertex[v as usize]));
+            for &v in tri {
+                mark(mesh_vertex[v as usize]);
+                let at = copies.partition_point(|&(f, _)| f < v);
+                copies[at..].iter().take_while(|&&(f, _)| f == v).for_each(|&(_, m)| mark(m));
+            }
         }
         if !marked {
             return Err(parse_err(

@@ -55,6 +55,10 @@ pub struct Localization {
     pub target_si: Vec<f64>,
     /// Final alignment cost of the selected start.
     pub cost: f64,
+    /// How much to trust the region, in [0, 1]: the estimated probability that it overlaps
+    /// the true region with IoU >= 0.5 ([`crate::selection::confidence`]; calibration in
+    /// docs/benchmarks/confidence/). Reject matches below a threshold of your choice.
+    pub confidence: f64,
     /// Index of the selected start in `candidates`, and the number of starts run.
     pub selected_start: usize,
     pub n_starts: usize,

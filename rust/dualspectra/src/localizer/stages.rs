@@ -424,6 +424,9 @@ fn result(loc: &Localizer, target: &Target, scored: Vec<Scored>, choice: usize, 
     let target_si = targets.next().unwrap_or_default();
     let cost = best.cost;
     let n_starts = scored.len();
+    let regions: Vec<&[bool]> = scored.iter().map(|c| c.full.0.as_slice()).collect();
+    let scores: Vec<CandidateScore> = scored.iter().map(|c| c.score).collect();
+    let confidence = selection::confidence(&scores[choice], selection::consensus(&regions, &scores, choice));
     let region = scored[choice].full.0.clone();
     let candidates = scored
         .into_iter()
@@ -445,6 +448,7 @@ fn result(loc: &Localizer, target: &Target, scored: Vec<Scored>, choice: usize, 
         target_regular,
         target_si,
         cost,
+        confidence,
         selected_start: choice,
         n_starts,
         timings,

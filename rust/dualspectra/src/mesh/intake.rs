@@ -1,14 +1,20 @@
 //! One mesh intake for every front end: a host's arrays (an editor's mesh, a file) become a
-//! [`TriMesh`], with what was left out counted and an index map back to the host's vertices.
+//! [`TriMesh`], with what was changed counted and an index map back to the host's vertices.
 //!
 //! Editors keep vertices no face uses (loose points, deleted elements) and zero-area
-//! triangles; the core's [`TriMesh`] has neither. The intake drops faces that repeat a vertex
-//! or have zero area (`area <= 1e-14 * longest_edge^2`, the test [`TriMesh::new`] applies),
-//! then the vertices no remaining face uses, and keeps `kept[new] = host index`. Results
-//! computed on the mesh go back to the host's indices with [`MeshIntake::to_host`].
-//! Anything else invalid (an index out of range, a non-finite coordinate, a non-manifold
-//! edge, no face left) is an error.
+//! triangles, and scans have non-manifold edges and vertices; the core's [`TriMesh`] has
+//! none of these. The intake drops faces that repeat a vertex or have zero area
+//! (`area <= 1e-14 * longest_edge^2`, the test [`TriMesh::new`] applies), splits the
+//! non-manifold edges and vertices ([`split_non_manifold`]: vertex copies, no face
+//! removed), then drops the vertices no remaining face uses, and keeps `kept[new] = host
+//! index`. Results computed on the mesh go back to the host's indices with
+//! [`MeshIntake::to_host`] (values: the first copy's) and [`MeshIntake::to_host_any`]
+//! (selections: any copy's). Anything else invalid (an index out of range, a non-finite
+//! coordinate, no face left) is an error.
+//!
+//! [`split_non_manifold`]: super::repair::split_non_manifold
 
+use super::repair::split_faces;
 use super::TriMesh;
 use crate::error::{MeshError, Result};
 
@@ -19,7 +25,8 @@ pub const DEGENERATE_RATIO: f64 = 1e-14;
 #[derive(Debug, Clone)]
 pub struct MeshIntake {
     pub mesh: TriMesh,
-    /// `kept[i]`: the host index of mesh vertex `i` (increasing).
+    /// `kept[i]`: the host index of mesh vertex `i`: the host vertices kept, increasing, then
+    /// the copies made by splitting non-manifold vertices (several `i` may name one host vertex).
     pub kept: Vec<u32>,
     /// Vertices in the host's arrays.
     pub n_host_vertices: usize,
@@ -27,6 +34,10 @@ pub struct MeshIntake {
     pub dropped_faces: usize,
     /// Host vertices left out (used by no kept face).
     pub dropped_vertices: usize,
+    /// Host edges that were in more than two faces, cut (see [`super::repair`]).
+    pub non_manifold_edges_split: usize,
+    /// Host vertices whose faces formed several fans, split into copies (see [`super::repair`]).
+    pub non_manifold_vertices_split: usize,
 }
 
 impl MeshIntake {
@@ -51,11 +62,25 @@ impl MeshIntake {
         if good.is_empty() {
             return Err(MeshError::AllFacesDegenerate { count: faces.len() }.into());
         }
-        let (mesh, kept) = TriMesh::new_dropping_isolated(vertices, good.clone()).map_err(|e| {
-            // The mesh's numbering back to the host's: the vertices the kept faces use.
-            let mut used = vec![false; n];
-            good.iter().flatten().for_each(|&i| used[i as usize] = true);
-            let kept: Vec<u32> = (0..n as u32).filter(|&i| used[i as usize]).collect();
+        let mut faces = good;
+        let split = split_faces(n, &mut faces);
+        // Vertex `i` of the split is host vertex `origin(i)`: itself, or the one it copies.
+        let origin = |i: usize| if i < n { i as u32 } else { split.copies[i - n] };
+        // Drop the vertices no face uses; `kept` maps to the host.
+        let mut used = vec![false; n + split.copies.len()];
+        faces.iter().flatten().for_each(|&i| used[i as usize] = true);
+        let mut new_index = vec![u32::MAX; used.len()];
+        let (mut kept, mut positions) = (Vec::new(), Vec::new());
+        for i in (0..used.len()).filter(|&i| used[i]) {
+            new_index[i] = kept.len() as u32;
+            kept.push(origin(i));
+            positions.push(vertices[origin(i) as usize]);
+        }
+        drop((used, vertices));
+        faces.iter_mut().for_each(|f| *f = f.map(|i| new_index[i as usize]));
+        let build = if split.manifold { TriMesh::new_split } else { TriMesh::new };
+        let mesh = build(positions, faces).map_err(|e| {
+            // Errors in the host's numbering.
             let vertex = |v: u32| kept.get(v as usize).copied().unwrap_or(v);
             let face = |f: usize| good_faces.get(f).copied().unwrap_or(f);
             match e {
@@ -66,8 +91,18 @@ impl MeshIntake {
                 other => other,
             }
         })?;
-        let dropped_vertices = n - kept.len();
-        Ok(MeshIntake { mesh, kept, n_host_vertices: n, dropped_faces, dropped_vertices })
+        // Every copy has faces, and so has the vertex it copies: `kept` less the copies is
+        // the host vertices kept.
+        let dropped_vertices = n - (kept.len() - split.copies.len());
+        Ok(MeshIntake {
+            mesh,
+            kept,
+            n_host_vertices: n,
+            dropped_faces,
+            dropped_vertices,
+            non_manifold_edges_split: split.edges_split,
+            non_manifold_vertices_split: split.vertices_split,
+        })
     }
 
     /// From flat arrays `xyz` (3 per vertex) and `tri` (3 per face).
@@ -84,29 +119,68 @@ impl MeshIntake {
         )
     }
 
-    /// Per-vertex `values` of the mesh at the host's indices; `fill` at dropped vertices.
+    /// Per-vertex `values` of the mesh at the host's indices; `fill` at dropped vertices. A
+    /// split host vertex takes its first copy's value (the fan of its lowest face): for
+    /// values such as curvature, potential or score.
     pub fn to_host<T: Clone>(&self, values: &[T], fill: T) -> Vec<T> {
         let mut out = vec![fill; self.n_host_vertices];
-        for (&host, v) in self.kept.iter().zip(values) {
+        // Backwards, so that the first copy is written last.
+        for (&host, v) in self.kept.iter().zip(values).rev() {
             out[host as usize] = v.clone();
         }
         out
     }
 
-    /// Per-host-vertex `values` read at the mesh's vertices.
+    /// A selection of mesh vertices at the host's indices: a host vertex is selected if any
+    /// of its copies is (`false` at dropped vertices). For regions.
+    pub fn to_host_any(&self, selected: &[bool]) -> Vec<bool> {
+        let mut out = vec![false; self.n_host_vertices];
+        for (&host, &s) in self.kept.iter().zip(selected) {
+            out[host as usize] |= s;
+        }
+        out
+    }
+
+    /// Per-vertex amounts of the mesh summed at the host's indices (0 at dropped vertices):
+    /// a split host vertex gets the sum over its copies, for additive quantities such as a
+    /// lumped mass (the area around the vertex).
+    pub fn to_host_sum(&self, values: &[f64]) -> Vec<f64> {
+        let mut out = vec![0.0; self.n_host_vertices];
+        for (&host, &v) in self.kept.iter().zip(values) {
+            out[host as usize] += v;
+        }
+        out
+    }
+
+    /// Per-host-vertex `values` read at the mesh's vertices (every copy reads its host vertex).
     pub fn from_host<T: Clone>(&self, values: &[T]) -> Vec<T> {
         self.kept.iter().map(|&h| values[h as usize].clone()).collect()
     }
 
-    /// What was dropped, as a sentence for the user (`None` if nothing was).
+    /// Copies the split added: mesh vertices beyond the host vertices kept.
+    pub fn n_copies(&self) -> usize {
+        self.kept.len() - (self.n_host_vertices - self.dropped_vertices)
+    }
+
+    /// What was changed, as a sentence for the user (`None` if nothing was).
     pub fn warning(&self, what: &str) -> Option<String> {
-        if self.dropped_faces == 0 && self.dropped_vertices == 0 {
-            return None;
+        let mut parts = Vec::new();
+        if self.dropped_faces > 0 || self.dropped_vertices > 0 {
+            parts.push(format!(
+                "left out {} degenerate face(s) and {} vertex(es) in no face; results at those vertices are empty",
+                self.dropped_faces, self.dropped_vertices
+            ));
         }
-        Some(format!(
-            "{what}: left out {} degenerate face(s) and {} vertex(es) in no face; results at those vertices are empty",
-            self.dropped_faces, self.dropped_vertices
-        ))
+        if self.non_manifold_edges_split > 0 || self.non_manifold_vertices_split > 0 {
+            parts.push(format!(
+                "split {} non-manifold edge(s) and {} non-manifold vertex(es) ({} vertex copies; a split vertex's \
+                 result is its first copy's, a region holds it if it holds any copy)",
+                self.non_manifold_edges_split,
+                self.non_manifold_vertices_split,
+                self.n_copies()
+            ));
+        }
+        (!parts.is_empty()).then(|| format!("{what}: {}", parts.join("; ")))
     }
 }
 
@@ -170,12 +244,34 @@ mod tests {
         assert!(MeshIntake::new(vec![[f64::NAN; 3]], vec![]).is_err());
         assert!(MeshIntake::new(tri.clone(), vec![[0, 0, 1]]).unwrap_err().to_string().contains("all 1 faces are degenerate"));
         assert!(MeshIntake::new(tri, vec![]).unwrap_err().to_string().contains("no faces"));
-        // Errors name the host's vertices: a loose vertex 0 shifts the mesh's numbering by one.
+        assert!(MeshIntake::from_flat(&[0.0; 4], &[]).is_err());
+    }
+
+    #[test]
+    fn splits_non_manifold_edges_and_vertices_and_maps_copies_back() {
+        // A loose vertex 0; three triangles on the edge (1, 2) (the first two a consistently
+        // oriented pair); a triangle touching the first only at vertex 3 (a bow tie).
         let mut v = vec![[9.0; 3]];
         v.extend([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, 1.0]]);
-        let fan = vec![[1, 2, 3], [2, 1, 4], [1, 2, 5]];
-        let e = MeshIntake::new(v, fan).unwrap_err().to_string();
-        assert!(e.contains("edge (1, 2) is shared by 3 faces"), "{e}");
-        assert!(MeshIntake::from_flat(&[0.0; 4], &[]).is_err());
+        v.extend([[-1.0, 2.0, 0.0], [1.0, 2.0, 0.0]]);
+        let f = vec![[1, 2, 3], [2, 1, 4], [1, 2, 5], [3, 6, 7]];
+        let intake = MeshIntake::new(v, f).unwrap();
+        assert_eq!((intake.non_manifold_edges_split, intake.non_manifold_vertices_split), (1, 3));
+        assert_eq!((intake.dropped_faces, intake.dropped_vertices, intake.n_copies()), (0, 1, 3));
+        // Host vertices 1..=7 kept in order, then the copies of 1 and 2 (face 2) and of 3 (face 3).
+        assert_eq!(intake.kept, vec![1, 2, 3, 4, 5, 6, 7, 1, 2, 3]);
+        assert_eq!(intake.mesh.faces(), &[[0, 1, 2], [1, 0, 3], [7, 8, 4], [9, 5, 6]]);
+        // Values: the first copy's; selections: any copy's; amounts: the sum.
+        let values: Vec<u32> = (10..20).collect();
+        assert_eq!(intake.to_host(&values, 0), vec![0, 10, 11, 12, 13, 14, 15, 16]);
+        let mut only_copies = vec![false; 10];
+        only_copies[7] = true;
+        only_copies[9] = true;
+        assert_eq!(intake.to_host_any(&only_copies), vec![false, true, false, true, false, false, false, false]);
+        assert_eq!(intake.to_host_sum(&[1.0; 10]), vec![0.0, 2.0, 2.0, 2.0, 1.0, 1.0, 1.0, 1.0]);
+        assert_eq!(intake.from_host(&[0, 1, 2, 3, 4, 5, 6, 7]), vec![1, 2, 3, 4, 5, 6, 7, 1, 2, 3]);
+        let w = intake.warning("partial mesh").unwrap();
+        assert!(w.starts_with("partial mesh: left out 0 degenerate face(s) and 1 vertex(es)"), "{w}");
+        assert!(w.contains("split 1 non-manifold edge(s) and 3 non-manifold vertex(es) (3 vertex copies"), "{w}");
     }
 }

@@ -2,7 +2,8 @@
 //!
 //! [`read_mesh`] picks the format from the file extension (`.off`, `.obj`, `.ply`, any
 //! case) and returns a validated [`TriMesh`] whose vertex numbers are the file's
-//! (0-based). [`read_mesh_with_report`] also says what was changed on the way.
+//! (0-based; copies made by splitting non-manifold vertices follow them).
+//! [`read_mesh_with_report`] also says what was changed on the way.
 //!
 //! # What reading does to a file
 //!
@@ -10,11 +11,12 @@
 //! |---|---|
 //! | polygon with `n > 3` vertices `(p0, ..., p{n-1})` | **repaired**: fan-triangulated into `(p0, pk, pk+1)`, `k = 1..n-2`; counted in [`ReadReport::polygons_triangulated`] |
 //! | vertex in no face (isolated) | **error** [`MeshError::IsolatedVertex`] by default; **repaired** (dropped, index map in [`ReadReport::kept_vertices`]) with [`ReadOptions::drop_isolated`] |
+//! | edge in more than two faces; vertex whose faces form several fans (non-manifold) | **repaired** by default ([`ReadOptions::split_non_manifold`]): split as in [`super::repair`] (vertex copies appended after the file's vertices, no face removed or reordered); counted in [`ReadReport::non_manifold_edges_split`] and [`ReadReport::non_manifold_vertices_split`]; each copy maps to its file vertex in [`ReadReport::kept_vertices`] |
 //! | the same triangle more than once | **repaired** by default ([`ReadOptions::remove_duplicate_faces`]): a copy and a reversed copy cancel (a two-sided "flap"), what remains is kept once; vertices used only by removed copies are dropped; counted in [`ReadReport::duplicate_faces_removed`] and [`ReadReport::flap_vertices_dropped`], listed in [`ReadReport::removed_triangles`] |
 //! | unreadable file; not a regular file (a directory, a device such as `/dev/zero`, a pipe; symbolic links are followed to their target) | [`Error::Io`] |
 //! | bad header, bad number, truncated data, face with fewer than 3 vertices, unknown extension | [`Error::Parse`] (with the line number for text formats) |
 //! | more than the header declares (OFF records after the faces, PLY data after the last element), a second PLY `vertex` or `face` element, an OBJ corner other than `v`, `v/vt`, `v//vn`, `v/vt/vn` with integers | [`Error::Parse`]: the counts or the syntax do not describe the file, and guessing would change the mesh |
-//! | face index out of range, NaN/inf coordinate, no faces, repeated vertex in a face, zero-area face (relative to its longest edge, at any scale), edge in more than two faces | [`Error::InvalidMeshFile`] with the [`MeshError`] |
+//! | face index out of range, NaN/inf coordinate, no faces, repeated vertex in a face, zero-area face (relative to its longest edge, at any scale); a non-manifold edge or vertex with [`ReadOptions::split_non_manifold`] off | [`Error::InvalidMeshFile`] with the [`MeshError`] |
 //!
 //! The duplicate-face repair exists for real data: SHREC'16 `null/cat.off` has twelve
 //! two-sided flaps (a triangle listed in both orientations, its tip vertex in no other
@@ -23,17 +25,20 @@
 //!
 //! Isolated vertices are an error by default because dropping them renumbers the
 //! vertices, and per-vertex data tied to the file (ground-truth correspondences,
-//! colours) would silently stop matching. Degenerate faces and non-manifold edges are
-//! never repaired: removing faces changes the topology (it opens holes, so the
-//! Dirichlet boundary changes), which would change the spectra the file is read for.
+//! colours) would silently stop matching. Degenerate faces are never repaired: removing
+//! faces changes the topology (it opens holes, so the Dirichlet boundary changes), which
+//! would change the spectra the file is read for. Non-manifold edges and vertices are
+//! split, not removed: raw scans have them (PFARM cuts have edges of four faces), and the
+//! split keeps every face and position, changing only which faces are joined. Sheets that
+//! touched at an edge or a vertex become separate (each gets its own boundary there).
 //!
 //! Bounded work on any input: only regular files are read, into one buffer of the file's
 //! size; faces are checked (vertex count, index range) and triangulated as they are read,
 //! so the first bad face ends the read; arrays are reserved from the declared counts only
 //! as far as the rest of the file can hold them; repairs and validation sort instead of
-//! hashing. A valid file takes about 1.5-2x its size in memory, a file of one triangle
-//! repeated about 4x (the `io_memory` test measures it). Tokens quoted in messages are
-//! cut to 40 characters.
+//! hashing. A valid file takes about 1.5x (text) to 2.8x (binary PLY) its size in memory,
+//! a file of one triangle repeated about 4x (the `io_memory` test measures it). Tokens
+//! quoted in messages are cut to 40 characters.
 //!
 //! Numbering in messages: face and vertex numbers are 0-based records of the file
 //! (the `k`-th face line of an OFF, the `k`-th face of a PLY), also after triangulation
@@ -47,6 +52,7 @@ mod obj;
 mod off;
 mod ply;
 
+use super::repair::{split_faces, FaceSplit};
 use super::TriMesh;
 use crate::error::{Error, MeshError, Result};
 use std::fs;
@@ -97,9 +103,14 @@ pub struct ReadOptions {
     pub drop_isolated: bool,
     /// Remove repeated triangles (same three vertices): pairs of opposite orientation
     /// cancel, the rest is kept once; vertices used only by removed triangles are
-    /// dropped. Default `true`. With `false`, repeated triangles usually fail validation
-    /// as [`MeshError::NonManifoldEdge`].
+    /// dropped. Default `true`. With `false`, repeated triangles usually make their edges
+    /// non-manifold (split, see below).
     pub remove_duplicate_faces: bool,
+    /// Split non-manifold edges and vertices ([`super::repair`]): copies of their vertices
+    /// are appended, mapped to the file's in [`ReadReport::kept_vertices`]. Default `true`.
+    /// With `false` they fail validation as [`MeshError::NonManifoldEdge`] or
+    /// [`MeshError::NonManifoldVertex`].
+    pub split_non_manifold: bool,
 }
 
 impl Default for ReadOptions {
@@ -107,6 +118,7 @@ impl Default for ReadOptions {
         ReadOptions {
             drop_isolated: false,
             remove_duplicate_faces: true,
+            split_non_manifold: true,
         }
     }
 }
@@ -127,7 +139,14 @@ pub struct ReadReport {
     pub duplicate_faces_removed: usize,
     /// Vertices dropped because only removed duplicate triangles used them (flap tips).
     pub flap_vertices_dropped: usize,
-    /// `kept_vertices[v]` = file index of mesh vertex `v` (the identity unless dropped).
+    /// Edges of the file in more than two faces, cut ([`ReadOptions::split_non_manifold`]).
+    pub non_manifold_edges_split: usize,
+    /// Vertices of the file whose faces formed several fans, given copies.
+    pub non_manifold_vertices_split: usize,
+    /// `kept_vertices[v]` = file index of mesh vertex `v`: the file's vertices the mesh
+    /// kept, increasing (the identity unless some were dropped), then the copies made by
+    /// the non-manifold split, each the file index of the vertex it copies. Several mesh
+    /// vertices may so name one file vertex; data per file vertex applies to all of them.
     pub kept_vertices: Vec<u32>,
     /// `face_origin[t]` = file face record that mesh triangle `t` comes from.
     pub face_origin: Vec<u32>,
@@ -136,6 +155,28 @@ pub struct ReadReport {
     /// ground truth) finds their vertices here; those the mesh kept are in `kept_vertices`
     /// (a flap's tip is not).
     pub removed_triangles: Vec<(u32, [u32; 3])>,
+}
+
+impl ReadReport {
+    /// Mesh vertices that are copies made by the non-manifold split (the last ones of
+    /// [`ReadReport::kept_vertices`], where it stops increasing).
+    pub fn n_copies(&self) -> usize {
+        let k = &self.kept_vertices;
+        k.len() - (1..k.len()).find(|&i| k[i] <= k[i - 1]).unwrap_or(k.len())
+    }
+
+    /// What the non-manifold split did, as a sentence for the user (`None` if nothing).
+    pub fn non_manifold_warning(&self) -> Option<String> {
+        (self.non_manifold_edges_split > 0 || self.non_manifold_vertices_split > 0).then(|| {
+            format!(
+                "split {} non-manifold edge(s) and {} non-manifold vertex(es): {} vertex copies added, \
+                 the sheets that met there are no longer joined",
+                self.non_manifold_edges_split,
+                self.non_manifold_vertices_split,
+                self.n_copies()
+            )
+        })
+    }
 }
 
 /// Read a mesh, choosing the format from the extension, with default [`ReadOptions`]
@@ -367,10 +408,11 @@ pub(crate) fn quote(text: &str) -> String {
 }
 
 /// Check, repair and validate: remove duplicate triangles, drop flap tips (and isolated
-/// vertices when asked), build the [`TriMesh`]; every error is translated back to the
-/// file's numbering. Works in place: besides the mesh and the report it allocates about
-/// 5 bytes per triangle and 6 per vertex, 16 per removed triangle (listed in the report),
-/// and validation 12 per triangle.
+/// vertices when asked), split non-manifold edges and vertices, build the [`TriMesh`];
+/// every error is translated back to the file's numbering. Works in place: besides the
+/// mesh and the report it allocates about 5 bytes per triangle and 6 per vertex, 16 per
+/// removed triangle (listed in the report), and the split (or validation, when the split
+/// is off) 36 per triangle and 5 per vertex.
 fn build(raw: RawMesh, format: MeshFormat, path: &Path, options: &ReadOptions) -> Result<(TriMesh, ReadReport)> {
     let RawMesh {
         mut positions,
@@ -455,7 +497,20 @@ fn build(raw: RawMesh, format: MeshFormat, path: &Path, options: &ReadOptions) -
         }
     }
     drop(used_in_file);
-    let mesh = TriMesh::new(positions, faces)
+    let mut split = FaceSplit::default();
+    if options.split_non_manifold {
+        split = split_faces(positions.len(), &mut faces);
+        if !split.copies.is_empty() {
+            positions.reserve_exact(split.copies.len());
+            kept_vertices.reserve_exact(split.copies.len());
+            for &o in &split.copies {
+                positions.push(positions[o as usize]);
+                kept_vertices.push(kept_vertices[o as usize]);
+            }
+        }
+    }
+    let build = if split.manifold { TriMesh::new_split } else { TriMesh::new };
+    let mesh = build(positions, faces)
         .map_err(|e| mesh_error(path, to_file_numbering(e, &face_origin, &kept_vertices)))?;
     let report = ReadReport {
         format,
@@ -465,6 +520,8 @@ fn build(raw: RawMesh, format: MeshFormat, path: &Path, options: &ReadOptions) -
         isolated_dropped,
         duplicate_faces_removed,
         flap_vertices_dropped,
+        non_manifold_edges_split: split.edges_split,
+        non_manifold_vertices_split: split.vertices_split,
         kept_vertices,
         face_origin,
         removed_triangles,

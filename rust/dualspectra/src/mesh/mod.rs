@@ -6,6 +6,7 @@ pub mod decimate;
 pub mod nearest;
 pub mod intake;
 pub mod io;
+pub mod repair;
 
 use crate::error::MeshError;
 
@@ -14,7 +15,10 @@ use crate::error::MeshError;
 ///
 /// Invariants checked by [`TriMesh::new`]: at least one face; indices in range;
 /// finite coordinates; no face repeating a vertex; no zero-area face; every edge in
-/// at most two faces (edge-manifold); every vertex in some face.
+/// at most two faces (edge-manifold); the faces at every vertex forming one fan, joined
+/// through shared edges (vertex-manifold); every vertex in some face. Raw meshes that
+/// fail only the manifold checks are repaired by [`repair::split_non_manifold`] (the
+/// [`intake`] and the reader of [`io`] do it).
 #[derive(Debug, Clone, PartialEq)]
 pub struct TriMesh {
     vertices: Vec<[f64; 3]>,
@@ -24,7 +28,14 @@ pub struct TriMesh {
 impl TriMesh {
     /// Build and validate a mesh. See the type's invariants; each violation is a distinct [`MeshError`].
     pub fn new(vertices: Vec<[f64; 3]>, faces: Vec<[u32; 3]>) -> Result<Self, MeshError> {
-        validate(&vertices, &faces)?;
+        validate(&vertices, &faces, false)?;
+        Ok(TriMesh { vertices, faces })
+    }
+
+    /// [`TriMesh::new`] for faces that [`repair::split_faces`] made manifold: the manifold
+    /// checks are skipped (debug builds run them too).
+    pub(in crate::mesh) fn new_split(vertices: Vec<[f64; 3]>, faces: Vec<[u32; 3]>) -> Result<Self, MeshError> {
+        validate(&vertices, &faces, true)?;
         Ok(TriMesh { vertices, faces })
     }
 
@@ -118,7 +129,7 @@ pub fn triangle_area(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
     0.5 * (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt()
 }
 
-fn validate(vertices: &[[f64; 3]], faces: &[[u32; 3]]) -> Result<(), MeshError> {
+fn validate(vertices: &[[f64; 3]], faces: &[[u32; 3]], split: bool) -> Result<(), MeshError> {
     let n = vertices.len();
     if n == 0 {
         return Err(MeshError::NoVertices);
@@ -144,34 +155,12 @@ fn validate(vertices: &[[f64; 3]], faces: &[[u32; 3]]) -> Result<(), MeshError> 
     if let Some(fi) = faces.iter().position(|f| intake::is_degenerate(vertices, f)) {
         return Err(MeshError::DegenerateFace { face: fi });
     }
-    // Edge-manifold: each undirected edge (a < b) in at most two faces. The edges are
-    // bucketed by `a` (counting sort) and each bucket sorted: 12 bytes per face, where a
-    // hash map of edges takes about 40. The smallest offending (a, b) is reported.
-    let edge = |f: &[u32; 3], e: usize| (f[e].min(f[(e + 1) % 3]), f[e].max(f[(e + 1) % 3]));
-    // pos[a]: end of bucket a after the prefix sum, its start once the bucket is filled.
-    let mut pos = vec![0usize; n + 1];
-    for f in faces {
-        (0..3).for_each(|e| pos[edge(f, e).0 as usize] += 1);
+    // Edge- then vertex-manifold; the smallest offending edge, then vertex, is reported.
+    if split {
+        debug_assert_eq!(repair::check_manifold(n, faces), Ok(()));
+    } else {
+        repair::check_manifold(n, faces)?;
     }
-    for a in 1..=n {
-        pos[a] += pos[a - 1];
-    }
-    let mut other = vec![0u32; 3 * faces.len()];
-    for f in faces {
-        for e in 0..3 {
-            let (a, b) = edge(f, e);
-            pos[a as usize] -= 1;
-            other[pos[a as usize]] = b;
-        }
-    }
-    for a in 0..n {
-        let bucket = &mut other[pos[a]..pos[a + 1]];
-        bucket.sort_unstable();
-        if let Some(run) = bucket.chunk_by(|x, y| x == y).find(|run| run.len() > 2) {
-            return Err(MeshError::NonManifoldEdge { a: a as u32, b: run[0], count: run.len() });
-        }
-    }
-    drop(other);
     let mut used = vec![false; n];
     faces.iter().flatten().for_each(|&i| used[i as usize] = true);
     let isolated = used.iter().filter(|&&u| !u).count();

@@ -1,0 +1,101 @@
+"""Fit the localizer's confidence from `dualspectra bench --json` logs (every candidate's
+scores and IoU are in them), and report how well it ranks results.
+
+    python fit_confidence.py OUT1.json [OUT2.json ...]
+
+Label of a pair: symmetry-aware IoU >= 0.5. Features of the chosen candidate:
+  - log region cost (spectral misfit of its step potential),
+  - partial fit (mean nearest SHOT distance of the partial into the region),
+  - boundary misfit |ln(L_R / L_N)|,
+  - consensus: fraction of the scored candidates whose region has IoU >= 0.5 with the
+    chosen one (starts that agree).
+A logistic model on these, fitted by Newton's method (L2 0.1), is reported by its area
+under the ROC curve, in-sample and leave-one-set-out (each set predicted by a model fitted
+on the others), and by the mean IoU of the 80% most confident results.
+"""
+import json
+import sys
+
+import numpy as np
+
+FEATURES = ["log_region_cost", "partial_fit", "boundary_misfit", "consensus"]
+
+
+def pair_rows(path):
+    data = json.load(open(path))
+    sets = data["sets"] if "sets" in data else [{"set": path, "pairs": data["pairs"]}]
+    for s in sets:
+        for p in s["pairs"]:
+            if p.get("error") or not p.get("candidates"):
+                continue
+            cands = p["candidates"]
+            chosen = cands[p["selected"]]
+            scored = [c for c in cands if c.get("region_cost") is not None]
+            consensus = np.mean([c["iou_with_chosen"] >= 0.5 for c in scored]) if scored else 0.0
+            yield s["set"], p["name"], p["scores_sym"]["iou"], {
+                "log_region_cost": np.log(max(chosen.get("region_cost") or 1e3, 1e-6)),
+                "partial_fit": chosen.get("partial_fit") or 1.0,
+                "boundary_misfit": chosen.get("boundary_misfit") or 2.0,
+                "consensus": consensus,
+            }
+
+
+def fit(x, y, l2=0.1, iters=50):
+    x1 = np.hstack([x, np.ones((len(x), 1))])
+    w = np.zeros(x1.shape[1])
+    for _ in range(iters):
+        p = 1 / (1 + np.exp(-x1 @ w))
+        g = x1.T @ (p - y) + l2 * np.r_[w[:-1], 0]
+        h = x1.T @ (x1 * (p * (1 - p))[:, None]) + l2 * np.eye(len(w))
+        w -= np.linalg.solve(h, g)
+    return w
+
+
+def predict(w, x):
+    return 1 / (1 + np.exp(-(np.hstack([x, np.ones((len(x), 1))]) @ w)))
+
+
+def auc(score, y):
+    pos, neg = score[y == 1], score[y == 0]
+    if len(pos) == 0 or len(neg) == 0:
+        return float("nan")
+    return float(np.mean([(p > n) + 0.5 * (p == n) for p in pos for n in neg]))
+
+
+def main(paths):
+    rows = [r for path in paths for r in pair_rows(path)]
+    sets = np.array([r[0] for r in rows])
+    iou = np.array([r[2] for r in rows])
+    x = np.array([[r[3][f] for f in FEATURES] for r in rows])
+    y = (iou >= 0.5).astype(float)
+    mu, sd = x.mean(0), x.std(0) + 1e-12
+    z = (x - mu) / sd
+    w = fit(z, y)
+    conf = predict(w, z)
+    print(f"{len(rows)} pairs, {int(y.sum())} with IoU >= 0.5")
+    print("in-sample AUC", round(auc(conf, y), 3))
+    for i, f in enumerate(FEATURES):
+        print(f"  AUC of {f} alone: {round(max(auc(z[:, i], y), 1 - auc(z[:, i], y)), 3)}")
+    loso = np.zeros(len(rows))
+    for s in np.unique(sets):
+        test = sets == s
+        if test.all():
+            loso[:] = conf
+            break
+        ws = fit(z[~test], y[~test])
+        loso[test] = predict(ws, z[test])
+    print("leave-one-set-out AUC", round(auc(loso, y), 3))
+    order = np.argsort(-conf)
+    top = order[: int(round(0.8 * len(order)))]
+    print(f"mean IoU all {iou.mean():.3f}, 80% most confident {iou[top].mean():.3f}")
+    for s in np.unique(sets):
+        m = sets == s
+        print(f"  {s}: {m.sum()} pairs, AUC {auc(conf[m], y[m]):.3f}, mean conf {conf[m].mean():.3f}, mean IoU {iou[m].mean():.3f}")
+    # Weights on raw features: conf = sigmoid(b + sum_i a_i x_i).
+    a = w[:-1] / sd
+    b = w[-1] - np.sum(w[:-1] * mu / sd)
+    print("raw weights", {f: round(float(v), 4) for f, v in zip(FEATURES, a)}, "bias", round(float(b), 4))
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])

@@ -1,0 +1,76 @@
+//! Stability under input noise at the last bits (issue "real partials", item 6): every
+//! coordinate of both shapes moved by a uniform random offset of relative size `EPS` (of
+//! the bounding-box diagonal), `RUNS` times per pair; prints each run's symmetry-aware IoU
+//! and the spread (max - min) per pair. A research harness; numbers go to docs/benchmarks/.
+//!
+//! `cargo run --release --example research_jitter -- ROOT [PAIRS_PER_SET] [RUNS] [EPS]`
+//!
+//! ROOT holds the dev sets (`$DUALSPECTRA_DATA`); pairs are spread evenly over each set.
+
+use dualspectra::evaluation::datasets::{Dataset, DEV_SETS};
+use dualspectra::evaluation::metrics::{scores, symmetry_aware};
+use dualspectra::{Localizer, Options, Progress, TriMesh};
+
+/// A deterministic uniform offset in [-1, 1] per (seed, index) (SplitMix64).
+fn unit_noise(seed: u64, i: u64) -> f64 {
+    let mut z = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ i.wrapping_add(0xD1B5_4A32_D192_ED03);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^= z >> 31;
+    (z >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+}
+
+fn jitter(mesh: &TriMesh, eps: f64, seed: u64) -> Result<TriMesh, dualspectra::Error> {
+    let h = eps * mesh.bbox_diagonal();
+    let (mut v, f) = mesh.clone().into_parts();
+    for (i, p) in v.iter_mut().enumerate() {
+        for (d, c) in p.iter_mut().enumerate() {
+            *c += h * unit_noise(seed, (3 * i + d) as u64);
+        }
+    }
+    TriMesh::new(v, f).map_err(Into::into)
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().collect();
+    let root = std::path::PathBuf::from(args.get(1).ok_or("usage: research_jitter ROOT [PAIRS_PER_SET] [RUNS] [EPS]")?);
+    let per_set: usize = args.get(2).map(|s| s.parse()).transpose()?.unwrap_or(2);
+    let runs: u64 = args.get(3).map(|s| s.parse()).transpose()?.unwrap_or(5);
+    let eps: f64 = args.get(4).map(|s| s.parse()).transpose()?.unwrap_or(1e-9);
+    let options = Options::default();
+    let mut spreads = Vec::new();
+    for set in DEV_SETS.iter().filter(|s| root.join(s).is_dir()) {
+        let pairs = Dataset::open(root.join(set))?.pairs()?;
+        let step = (pairs.len() / per_set.max(1)).max(1);
+        for pair in pairs.iter().step_by(step).take(per_set) {
+            let data = pair.load()?;
+            let mut ious = Vec::new();
+            for run in 0..=runs {
+                // Run 0 is the input as read; runs 1.. are jittered.
+                let (full, partial) = if run == 0 {
+                    (data.full.clone(), data.partial.clone())
+                } else {
+                    (jitter(&data.full, eps, 2 * run)?, jitter(&data.partial, eps, 2 * run + 1)?)
+                };
+                let found = Localizer::new(&full, &options)?.locate(&partial, &Progress::none())?;
+                let iou = match &data.gt_sym {
+                    Some(sym) => symmetry_aware(&found.region, &data.gt, sym, None)?.0.iou,
+                    None => scores(&found.region, &data.gt)?.iou,
+                };
+                ious.push(iou);
+            }
+            let (lo, hi) = ious.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &x| (l.min(x), h.max(x)));
+            let shown: Vec<String> = ious.iter().map(|x| format!("{x:.3}")).collect();
+            println!("{set} {} spread {:.3} iou [{}]", pair.name, hi - lo, shown.join(" "));
+            spreads.push(hi - lo);
+        }
+    }
+    let n = spreads.len().max(1) as f64;
+    println!(
+        "pairs {} mean spread {:.3} max spread {:.3}",
+        spreads.len(),
+        spreads.iter().sum::<f64>() / n,
+        spreads.iter().cloned().fold(0.0, f64::max)
+    );
+    Ok(())
+}
