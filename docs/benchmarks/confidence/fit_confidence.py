@@ -1,14 +1,18 @@
 """Fit the localizer's confidence from `dualspectra bench --json` logs (every candidate's
 scores and IoU are in them), and report how well it ranks results.
 
-    python fit_confidence.py OUT1.json [OUT2.json ...]
+    python fit_confidence.py [FEATURE,FEATURE,...] OUT1.json [OUT2.json ...]
 
-Label of a pair: symmetry-aware IoU >= 0.5. Features of the chosen candidate:
-  - log region cost (spectral misfit of its step potential),
-  - partial fit (mean nearest SHOT distance of the partial into the region),
-  - boundary misfit |ln(L_R / L_N)|,
+Label of a pair: symmetry-aware IoU >= 0.5. Features (default: the shipped model,
+partial_fit,consensus,margin; as in `selection::agreement` and `selection::confidence`):
+  - log_region_cost: spectral misfit of the chosen region's step potential,
+  - partial_fit: mean nearest SHOT distance of the partial into the region,
+  - boundary_misfit: |ln(L_R / L_N)|,
   - consensus: fraction of the scored candidates whose region has IoU >= 0.5 with the
-    chosen one (starts that agree).
+    chosen one (starts that agree),
+  - margin: log ranking of the best-ranked disagreeing candidate minus the chosen one's
+    (at most 3),
+  - cost_ratio: log of the chosen region cost over the lowest.
 A logistic model on these, fitted by Newton's method (L2 0.1), is reported by its area
 under the ROC curve, in-sample and leave-one-set-out (each set predicted by a model fitted
 on the others), and by the mean IoU of the 80% most confident results.
@@ -18,7 +22,7 @@ import sys
 
 import numpy as np
 
-FEATURES = ["log_region_cost", "partial_fit", "boundary_misfit", "consensus"]
+FEATURES = sys.argv[1].split(",") if len(sys.argv) > 1 and not sys.argv[1].endswith(".json") else ["partial_fit", "consensus", "margin"]
 
 
 def pair_rows(path):
@@ -32,11 +36,22 @@ def pair_rows(path):
             chosen = cands[p["selected"]]
             scored = [c for c in cands if c.get("region_cost") is not None]
             consensus = np.mean([c["iou_with_chosen"] >= 0.5 for c in scored]) if scored else 0.0
+
+            def rank(c):
+                d, f, m = c.get("descriptor_score"), c.get("partial_fit"), c.get("boundary_misfit") or 0.0
+                return np.log(d) + 2 * np.log(f) + 0.5 * m if d and f else np.inf
+
+            others = [rank(c) for c in scored if c["iou_with_chosen"] < 0.5]
+            margin = min(min(others) - rank(chosen), 3.0) if others else 3.0
+            best_cost = min(c["region_cost"] for c in scored) if scored else 1.0
+            cost_ratio = np.log(max(chosen.get("region_cost") or 1e3, 1e-9) / max(best_cost, 1e-9))
             yield s["set"], p["name"], p["scores_sym"]["iou"], {
                 "log_region_cost": np.log(max(chosen.get("region_cost") or 1e3, 1e-6)),
                 "partial_fit": chosen.get("partial_fit") or 1.0,
                 "boundary_misfit": chosen.get("boundary_misfit") or 2.0,
                 "consensus": consensus,
+                "margin": margin,
+                "cost_ratio": cost_ratio,
             }
 
 
@@ -63,6 +78,7 @@ def auc(score, y):
 
 
 def main(paths):
+    paths = [p for p in paths if p.endswith(".json")]
     rows = [r for path in paths for r in pair_rows(path)]
     sets = np.array([r[0] for r in rows])
     iou = np.array([r[2] for r in rows])

@@ -287,41 +287,62 @@ pub fn choose(scores: &[CandidateScore], floor: f64) -> Option<usize> {
     gated.into_iter().min_by(|&a, &b| key(a).total_cmp(&key(b)).then(a.cmp(&b)))
 }
 
-/// Fraction of the candidates with a known region cost whose region overlaps the chosen
-/// one's with IoU >= 0.5 (the chosen one included): how many starts agree on the answer.
-/// 0 when `chosen` is out of range.
-pub fn consensus(regions: &[&[bool]], scores: &[CandidateScore], chosen: usize) -> f64 {
-    let Some(&mine) = regions.get(chosen) else { return 0.0 };
+/// How the starts agree with a choice, the inputs of [`confidence`] besides the chosen
+/// candidate's own scores.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Agreement {
+    /// Fraction of the scored candidates (those with a region cost) whose region overlaps
+    /// the chosen one's with IoU >= 0.5, the chosen one included.
+    pub consensus: f64,
+    /// How much worse the best-ranked *other* answer is: $\min \ln \rho_j - \ln \rho_c$ over
+    /// scored candidates $j$ whose region overlaps the chosen one's with IoU < 0.5
+    /// ($\rho$ = [`CandidateScore::ranking`]), at most [`MAX_MARGIN`] (also when there is none).
+    pub margin: f64,
+}
+
+/// Cap of [`Agreement::margin`].
+pub const MAX_MARGIN: f64 = 3.0;
+
+/// The [`Agreement`] of the starts with candidate `chosen` (`regions[i]` the region of
+/// candidate `i`). Consensus 0 and margin 0 when `chosen` is out of range.
+pub fn agreement(regions: &[&[bool]], scores: &[CandidateScore], chosen: usize) -> Agreement {
+    let (Some(&mine), Some(own)) = (regions.get(chosen), scores.get(chosen)) else {
+        return Agreement { consensus: 0.0, margin: 0.0 };
+    };
     let iou = |r: &[bool]| {
         let (both, either) = r.iter().zip(mine).fold((0usize, 0usize), |(b, e), (&x, &y)| (b + (x && y) as usize, e + (x || y) as usize));
         if either == 0 { 0.0 } else { both as f64 / either as f64 }
     };
+    let log_rank = |s: &CandidateScore| s.ranking().filter(|r| *r > 0.0).map_or(f64::INFINITY, f64::ln);
     let scored: Vec<usize> = (0..regions.len().min(scores.len())).filter(|&i| scores[i].region_cost.is_some()).collect();
-    if scored.is_empty() {
-        return 0.0;
+    let (mut agree, mut best_other) = (0usize, f64::INFINITY);
+    for &i in &scored {
+        if iou(regions[i]) >= 0.5 {
+            agree += 1;
+        } else {
+            best_other = best_other.min(log_rank(&scores[i]));
+        }
     }
-    scored.iter().filter(|&&i| iou(regions[i]) >= 0.5).count() as f64 / scored.len() as f64
+    let consensus = if scored.is_empty() { 0.0 } else { agree as f64 / scored.len() as f64 };
+    let margin = (best_other - log_rank(own)).min(MAX_MARGIN);
+    Agreement { consensus, margin: if margin.is_nan() { 0.0 } else { margin } }
 }
 
-/// Weights of [`confidence`]: bias, then log region cost, partial fit, boundary misfit,
-/// consensus (a logistic regression of "symmetry-aware IoU >= 0.5" on the dev sets:
-/// docs/benchmarks/confidence/).
-const CONFIDENCE_WEIGHTS: [f64; 5] = [0.0, 0.0, 0.0, 0.0, 0.0];
+/// Weights of [`confidence`]: bias, partial fit, consensus, margin (a logistic regression
+/// of "symmetry-aware IoU >= 0.5" over the dev sets: docs/benchmarks/confidence/).
+const CONFIDENCE_WEIGHTS: [f64; 4] = [4.2875, -8.0923, 1.1884, 2.1802];
 
 /// How much to trust a chosen region, in [0, 1]: the estimated probability that its
-/// symmetry-aware IoU with the true region is at least 0.5, $\sigma(b + a_1 \ln r + a_2 f +
-/// a_3 m + a_4 c)$ from the chosen candidate's region cost $r$, partial fit $f$, boundary
-/// misfit $m$ and the [`consensus`] $c$ of the starts. A missing score counts as a bad one
-/// ($r = 10^3$, $f = 1$, $m = 2$).
-pub fn confidence(chosen: &CandidateScore, consensus: f64) -> f64 {
-    let [b, a_cost, a_fit, a_misfit, a_consensus] = CONFIDENCE_WEIGHTS;
-    let known = |x: Option<f64>, bad: f64| x.filter(|v| v.is_finite()).unwrap_or(bad);
-    let z = b
-        + a_cost * known(chosen.region_cost, 1e3).max(1e-6).ln()
-        + a_fit * known(chosen.partial_fit, 1.0)
-        + a_misfit * known(chosen.boundary_misfit, 2.0)
-        + a_consensus * consensus.clamp(0.0, 1.0);
-    (1.0 / (1.0 + (-z).exp())).clamp(0.0, 1.0)
+/// symmetry-aware IoU with the true region is at least 0.5,
+/// $\sigma(b + a_1 f + a_2 c + a_3 g)$ from the chosen candidate's partial fit $f$ (1 if
+/// unknown, clamped to [0, 10]) and the starts' [`Agreement`]: consensus $c$ and margin $g$
+/// (NaN counts as their lowest value).
+pub fn confidence(chosen: &CandidateScore, agreement: &Agreement) -> f64 {
+    let [b, a_fit, a_consensus, a_margin] = CONFIDENCE_WEIGHTS;
+    let fit = chosen.partial_fit.filter(|v| v.is_finite()).unwrap_or(1.0).clamp(0.0, 10.0);
+    let within = |x: f64, lo: f64, hi: f64| if x.is_nan() { lo } else { x.clamp(lo, hi) };
+    let z = b + a_fit * fit + a_consensus * within(agreement.consensus, 0.0, 1.0) + a_margin * within(agreement.margin, -MAX_MARGIN, MAX_MARGIN);
+    1.0 / (1.0 + (-z).exp())
 }
 
 fn restrict_rows(m: &Mat<f64>, rows: &[u32]) -> Mat<f64> {
@@ -331,6 +352,43 @@ fn restrict_rows(m: &Mat<f64>, rows: &[u32]) -> Mat<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn agreement_counts_overlapping_starts_and_the_margin_to_the_best_other_answer() {
+        let a = [true, true, true, false, false, false];
+        let a2 = [true, true, true, true, false, false];
+        let b = [false, false, false, true, true, true];
+        let regions: Vec<&[bool]> = vec![&a, &a2, &b, &b];
+        let sc = |d: f64, fit: f64| CandidateScore { descriptor_score: Some(d), region_cost: Some(1.0), boundary_misfit: Some(0.0), partial_fit: Some(fit) };
+        let mut scores = vec![sc(1.0, 0.5), sc(2.0, 0.5), sc(4.0, 0.5), sc(8.0, 0.5)];
+        let g = agreement(&regions, &scores, 0);
+        assert_eq!(g.consensus, 0.5);
+        assert!((g.margin - 4f64.ln()).abs() < 1e-12, "{}", g.margin);
+        // A better-ranked disagreeing answer gives a negative margin; unscored starts do not count.
+        scores[3] = sc(0.5, 0.5);
+        assert!((agreement(&regions, &scores, 0).margin - 0.5f64.ln()).abs() < 1e-12);
+        scores[2].region_cost = None;
+        scores[3].region_cost = None;
+        let g = agreement(&regions, &scores, 0);
+        assert_eq!((g.consensus, g.margin), (1.0, MAX_MARGIN));
+        assert_eq!(agreement(&regions, &scores, 9), Agreement { consensus: 0.0, margin: 0.0 });
+    }
+
+    #[test]
+    fn confidence_is_a_probability_rising_with_agreement_and_falling_with_a_worse_fit() {
+        let s = |fit: f64| CandidateScore { descriptor_score: Some(1.0), region_cost: Some(1.0), boundary_misfit: Some(0.0), partial_fit: Some(fit) };
+        let g = |consensus: f64, margin: f64| Agreement { consensus, margin };
+        let c = confidence(&s(0.3), &g(0.5, 0.5));
+        assert!(c > 0.0 && c < 1.0, "{c}");
+        assert!(confidence(&s(0.3), &g(0.9, 0.5)) > c);
+        assert!(confidence(&s(0.3), &g(0.5, 2.0)) > c);
+        assert!(confidence(&s(0.5), &g(0.5, 0.5)) < c);
+        for x in [f64::NAN, f64::INFINITY, -1e300] {
+            let v = confidence(&s(x), &g(x, x));
+            assert!((0.0..=1.0).contains(&v), "{x}: {v}");
+        }
+    }
+
 
     /// A score with every entry known (NaN entries become `None`).
     fn score(desc: f64, region: f64, misfit: f64, fit: f64) -> CandidateScore {

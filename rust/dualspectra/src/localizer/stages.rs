@@ -426,7 +426,7 @@ fn result(loc: &Localizer, target: &Target, scored: Vec<Scored>, choice: usize, 
     let n_starts = scored.len();
     let regions: Vec<&[bool]> = scored.iter().map(|c| c.full.0.as_slice()).collect();
     let scores: Vec<CandidateScore> = scored.iter().map(|c| c.score).collect();
-    let confidence = selection::confidence(&scores[choice], selection::consensus(&regions, &scores, choice));
+    let confidence = selection::confidence(&scores[choice], &selection::agreement(&regions, &scores, choice));
     let region = scored[choice].full.0.clone();
     let candidates = scored
         .into_iter()
