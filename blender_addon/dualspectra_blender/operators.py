@@ -5,8 +5,8 @@ Read, check, write (glTF-Blender-IO's operator habit):
 * read: both objects' evaluated meshes (modifiers applied), triangulated with
   ``loop_triangles``, in world space (``matrix_world @ co``), via ``mesh_data``; the arrays
   go to the library as they are (its intake leaves out degenerate triangles and loose
-  vertices, maps every result back to these vertices and says what it left out: reported
-  as warnings);
+  vertices, splits non-manifold edges and vertices, maps every result back to these
+  vertices and says what it left out or split: reported as warnings);
 * check: errors become ``self.report({'ERROR'}, ...)`` and ``{'CANCELLED'}``;
 * write: the region's vertices, and the edges and faces between them, are selected on
   the active object; the soft score is stored as the point attribute

@@ -14,7 +14,8 @@ Also: the option properties are the library's table (``dualspectra.options_schem
 a second part located on the same object reuses the prepared ``Localizer`` and selects what
 a fresh preparation selects; the confidence in the operator's report is the library's; loose
 vertices and degenerate faces are the library's to drop (reported as a warning, the selection
-still covers every vertex).
+still covers every vertex); a non-manifold partial is the library's to split (reported as a
+warning), a closed one the library's to refuse (its message reported).
 
 Exit status 1 on any failure (``--python-exit-code 1`` for the Blender binary).
 """
@@ -446,6 +447,36 @@ def test_loose_vertex_and_degenerate_face_are_left_to_the_library():
     assert np.array_equal(sel[:n], RESULT["selection"]), f"differ on {(sel[:n] != RESULT['selection']).sum()} vertices"
 
 
+def test_non_manifold_partial_is_split_and_said_so():
+    """A fin on an edge inside the part (one more triangle, on a new last vertex: three
+    triangles on that edge) is split off by the library's intake, which says so (reported as
+    warnings: the split, and the fin left out as a separate piece); the part is then the part
+    as it was, so the selection is the one without the fin."""
+    if "selection" not in RESULT:
+        raise Skip("needs test_operator_selects_the_cut_region")
+    count = {}
+    for t in PART_F:
+        for e in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0])):
+            key = (min(e), max(e))
+            count[key] = count.get(key, 0) + 1
+    a, b = next(k for k, c in count.items() if c == 2)  # an edge inside the part
+    n = len(PART_V_MOVED)
+    tip = (PART_V_MOVED[a] + PART_V_MOVED[b]) / 2 + (0.0, 0.0, 0.2)
+    clear_scene()
+    full = make_object("Full", FULL_V, FULL_F, FULL_MATRIX)
+    fin = make_object("Fin", np.r_[PART_V_MOVED, [tip]], np.r_[PART_F, [[a, b, n]]], PART_MATRIX)
+    select_only(full, fin, active=full)
+    assert len(fin.data.polygons) == len(PART_F) + 1, "Blender kept the fin"
+    with captured_output() as out:
+        ret, _ = run_localize(partial_object="Fin")
+    assert ret == {'FINISHED'}, ret
+    said = "partial mesh: split 1 non-manifold edge(s) and 2 non-manifold vertex(es) (2 vertex copies"
+    assert said in out["text"], out["text"]
+    assert f"only its largest component ({n} of {n + 3} vertices)" in out["text"], out["text"]
+    sel = selected_vertices(full.data)
+    assert np.array_equal(sel, RESULT["selection"]), f"differ on {(sel != RESULT['selection']).sum()} vertices"
+
+
 def test_two_parts_on_one_object_reuse_the_prepared_shape():
     """Locating a second part on the same full object reuses its prepared Localizer, and each
     selection is the one a fresh preparation gives."""
@@ -575,16 +606,17 @@ def test_error_no_partial_chosen():
     expect_operator_error(["no object"], partial_object="Nope")
 
 
-def test_error_non_manifold_partial_reported_by_library():
+def test_error_closed_partial_reported_by_library():
+    """A partial that no intake can make a part of anything (a closed octahedron: no boundary,
+    so no Dirichlet spectrum): the library's message, reported, not raised; nothing written."""
     full, _ = scene_pair()
-    # three triangles on one edge: the library's MeshError, reported, not raised
-    v = [(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1)]
-    mesh = bpy.data.meshes.new("Fin")
-    mesh.from_pydata(v, [], [(0, 1, 2), (1, 0, 3), (0, 1, 4)])
-    ob = bpy.data.objects.new("Fin", mesh)
-    bpy.context.scene.collection.objects.link(ob)
-    msg = expect_operator_error(["MeshError", "manifold"], partial_object="Fin")
+    v = [(0.3, 0, 0), (-0.3, 0, 0), (0, 0.3, 0), (0, -0.3, 0), (0, 0, 0.3), (0, 0, -0.3)]
+    f = [(0, 2, 4), (2, 1, 4), (1, 3, 4), (3, 0, 4), (2, 0, 5), (1, 2, 5), (3, 1, 5), (0, 3, 5)]
+    make_object("Closed", np.array(v, dtype=np.float64), f, PART_MATRIX)
+    msg = expect_operator_error(["Localization failed on 'Closed'", "the partial shape has no boundary"],
+                                partial_object="Closed", **OP_OPTIONS)
     print("    reported:", msg.strip())
+    assert "dualspectra_score" not in full.data.attributes
 
 
 def test_error_time_limit():

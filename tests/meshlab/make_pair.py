@@ -10,8 +10,10 @@ Outputs in `--out`: full.off, partial.off, expected_region.txt (one full-mesh ve
 line); partial2.off and expected_region2.txt, a second part cut by another plane; full_debris.off,
 the full mesh with what an editor's mesh may hold and the library's intake leaves out (a loose
 vertex, and a zero-area triangle on three more vertices, all after the full mesh's vertices);
-points.off (the part's vertices without faces: a point cloud) and nonmanifold.off (three
-triangles on one edge, which the library rejects), for the error paths.
+points.off (the part's vertices without faces: a point cloud), for an error path;
+fin.off, partial.off with a fin (one more triangle, on a new vertex, on an edge inside the
+part: three triangles on that edge), which the library's intake splits off, leaving the part
+as it was; and closed.off (an octahedron: no boundary), which no intake can make a part.
 """
 
 import argparse
@@ -97,6 +99,25 @@ def write_off(path, verts, faces):
             f.write("3 %d %d %d\n" % t)
 
 
+def write_fin(path, full, region, kept):
+    """partial.off (same vertices, same faces, same order) plus a fin: a new last vertex off
+    the surface and a last triangle on the first edge of the part whose two faces both hold
+    it, inside the part. The edge then has three triangles (non-manifold); the intake glues
+    the first two, as they were, and splits the fin off with copies of the edge's ends."""
+    new_index = {old: new for new, old in enumerate(region)}
+    faces = [tuple(new_index[i] for i in t) for t in kept]
+    count = {}
+    for t in faces:
+        for e in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0])):
+            key = (min(e), max(e))
+            count[key] = count.get(key, 0) + 1
+    a, b = next(e for t in faces for e in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0]))
+                if count[(min(e), max(e))] == 2)
+    verts = [rigid(full[i]) for i in region]
+    tip = tuple((verts[a][i] + verts[b][i]) / 2 + (0.2 if i == 2 else 0.0) for i in range(3))
+    write_off(path, verts + [tip], faces + [(a, b, len(verts))])
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--out", required=True, help="output directory")
@@ -125,8 +146,10 @@ def main():
     write_off(os.path.join(args.out, "full_debris.off"), full + DEBRIS, faces + [(n + 1, n + 2, n + 3)])
     part_points = [rigid(full[i]) for i in region]
     write_off(os.path.join(args.out, "points.off"), part_points, [])
-    write_off(os.path.join(args.out, "nonmanifold.off"),
-              [(0, 0, 0), (1, 0, 0), (0.5, 1, 0), (0.5, -1, 0), (0.5, 0, 1)], [(0, 1, 2), (1, 0, 3), (0, 1, 4)])
+    write_fin(os.path.join(args.out, "fin.off"), full, region, kept)
+    write_off(os.path.join(args.out, "closed.off"),
+              [(0.3, 0, 0), (-0.3, 0, 0), (0, 0.3, 0), (0, -0.3, 0), (0, 0, 0.3), (0, 0, -0.3)],
+              [(0, 2, 4), (2, 1, 4), (1, 3, 4), (3, 0, 4), (2, 0, 5), (1, 2, 5), (3, 1, 5), (0, 3, 5)])
     print("full: %d vertices, %d faces; partial: %d vertices, %d faces (%.1f%% of the full vertices)"
           % (len(full), len(faces), len(region), len(kept), 100.0 * len(region) / len(full)))
 

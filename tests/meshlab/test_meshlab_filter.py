@@ -32,8 +32,12 @@ Cases (each one meshlabserver run):
   bad-k, bad-planes, bad-seed
                an option out of range: the library's message naming it and its range, no crash.
   bad-enum     a choice index out of range: a clear message, no crash.
-  bad-mesh     a non-manifold partial layer, rejected by the library (DS_INVALID_MESH): its
-               message reaches the log, no crash.
+  fin          a non-manifold partial layer (the part with a fin: three triangles on one edge):
+               the library's intake splits it (its warning is logged), the fin falls off as
+               a separate piece (logged too), and the region has IoU >= --min-iou as in
+               `region`.
+  bad-mesh     a closed partial layer (an octahedron: no boundary), which the library refuses:
+               its message reaches the log, no crash.
 """
 
 import argparse
@@ -321,13 +325,37 @@ def main():
             checks.check(case, says in text, log_excerpt(text, says))
             no_crash(checks, case, status, text)
 
+        if wanted("fin"):
+            print("case fin: a non-manifold partial layer (the part with a fin on one of its edges)")
+            fin = os.path.join(work, "fin.off")
+            # the full layer last, so that it is the layer saved (see `region`)
+            status, text, out = run_server(server, work, "fin", [fin, full], mlx(filter_call(schema, 1, 0, k=args.k)),
+                                           save_mask=["vf", "sa"], timeout=args.timeout)
+            no_crash(checks, "fin", status, text)
+            ok = status == 0 and out is not None and os.path.exists(out)
+            checks.check("fin", ok, "the filter call applied and mesh saved (exit %d)" % status)
+            said = "partial mesh: split 1 non-manifold edge(s) and 2 non-manifold vertex(es) (2 vertex copies"
+            checks.check("fin", said in text, log_excerpt(text, "non-manifold"))
+            # the part's vertices, of the part's + the fin's tip + the two copies
+            with open(partial) as f:
+                n_part = int(f.read().split()[1])
+            checks.check("fin", "only its largest component (%d of %d vertices)" % (n_part, n_part + 3) in text,
+                         log_excerpt(text, "largest component"))
+            if ok:
+                sel = set(read_selected(out)[1])
+                inter, union = len(sel & expected), len(sel | expected)
+                checks.check("fin", union > 0 and inter / union >= args.min_iou,
+                             "IoU %.3f (>= %.2f): %d selected, %d expected"
+                             % (inter / max(1, union), args.min_iou, len(sel), len(expected)))
+
         if wanted("bad-mesh"):
-            print("case bad-mesh: a non-manifold partial layer")
-            nonmanifold = os.path.join(work, "nonmanifold.off")
-            status, text, _ = run_server(server, work, "bad-mesh", [full, nonmanifold], mlx(filter_call(schema, 0, 1)))
+            print("case bad-mesh: a closed partial layer (no boundary)")
+            closed = os.path.join(work, "closed.off")
+            status, text, _ = run_server(server, work, "bad-mesh", [full, closed], mlx(filter_call(schema, 0, 1, k=args.k)),
+                                         timeout=args.timeout)
             checks.check("bad-mesh", status != 0, "the script fails (exit %d)" % status)
-            checks.check("bad-mesh", "partial layer rejected" in text and "DS_INVALID_MESH" in text,
-                         log_excerpt(text, "partial layer rejected"))
+            checks.check("bad-mesh", "localization failed" in text and "the partial shape has no boundary" in text,
+                         log_excerpt(text, "no boundary"))
             no_crash(checks, "bad-mesh", status, text)
 
         if wanted("region"):

@@ -9,15 +9,16 @@
 //
 // Conversion: the live (not removed) vertices, in the order of sm.vertices(), and the faces
 // are the host's arrays handed to the core's mesh intake (dualspectra::Mesh::from_host): it
-// leaves out zero-area faces and vertices in no face (isolated), says so in conv.mesh.warning()
-// and in the result's warnings, and gives every result back for all live vertices (`false` / 0
-// at the left-out ones). Removed elements and non-contiguous indices (a mesh not
-// garbage-collected) are skipped here. Coordinates go through CGAL::to_double, so exact kernels
-// work. Every face must be a triangle: a polygon face throws
-// dualspectra::Error(Status::InvalidMesh) naming the face (triangulate first, e.g. with
-// CGAL::Polygon_mesh_processing::triangulate_faces). What the intake cannot repair
-// (non-manifold edge or vertex, non-finite coordinate) throws Error(Status::InvalidMesh) with
-// its reason.
+// leaves out zero-area faces and vertices in no face (isolated), splits non-manifold vertices
+// (two sheets of faces meeting at one vertex: each extra sheet gets a copy of it), says so in
+// conv.mesh.warning() and in the result's warnings, and gives every result back for all live
+// vertices (`false` / 0 at the left-out ones; a split vertex is in the region if any copy
+// is). Removed elements and non-contiguous indices (a mesh not garbage-collected) are skipped
+// here. Coordinates go through CGAL::to_double, so exact kernels work. Every face must be a
+// triangle: a polygon face throws dualspectra::Error(Status::InvalidMesh) naming the face
+// (triangulate first, e.g. with CGAL::Polygon_mesh_processing::triangulate_faces). What the
+// intake cannot use (a non-finite coordinate, no faces, every face of zero area) throws
+// Error(Status::InvalidMesh) with its reason.
 #pragma once
 
 #include <algorithm>

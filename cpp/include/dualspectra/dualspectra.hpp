@@ -49,10 +49,16 @@ class Error : public std::runtime_error {
 //  - the constructors check strictly: indices in range, finite coordinates, no degenerate or
 //    repeated-vertex face, edge/vertex-manifold, no vertex in no face; otherwise they throw
 //    Error(Status::InvalidMesh) with the reason;
-//  - Mesh::from_host takes a host's arrays (an editor's mesh, a file) through the core's
-//    intake: faces that repeat a vertex or have zero area, then vertices in no face, are left
-//    out (warning() says what), and every per-vertex array in or out (curvature, mass, the
-//    Localization) stays in the host's numbering, with 0 / false at the left-out vertices.
+//  - Mesh::from_host takes a host's arrays (an editor's mesh, a scan, a file) through the
+//    core's intake: faces that repeat a vertex or have zero area are left out; non-manifold
+//    edges (in more than two faces) and vertices (faces in several fans) are split, each
+//    extra fan of a vertex getting a copy of it (no face removed); then vertices in no face
+//    are left out. warning() says what was left out or split. Every per-vertex array in or
+//    out (curvature, mass, the Localization) stays in the host's numbering: 0 / false at the
+//    left-out vertices; a split vertex is in a region if any copy is, its curvature and
+//    score are its first copy's, its mass the sum over its copies. What cannot be used still
+//    throws Error(Status::InvalidMesh), with vertex and face numbers as the host's: an index
+//    out of range, a non-finite coordinate, no faces, every face degenerate.
 class Mesh {
  public:
   // Flat arrays: positions[3*i + d], triangles[3*f + c].
@@ -70,13 +76,15 @@ class Mesh {
   std::size_t n_vertices() const noexcept { return data_->n_vertices(); }
   // Faces used (for from_host: less those left out).
   std::size_t n_faces() const noexcept { return data_->n_faces(); }
-  // The mesh the core works on: the used vertices (in host order) and faces into them. For a
-  // strictly checked mesh, the given arrays.
+  // The mesh the core works on: the used vertices (in host order), then the copies of split
+  // non-manifold vertices, and faces into them. For a strictly checked mesh, the given arrays.
   std::vector<std::array<double, 3>> vertices() const;
   std::vector<std::array<std::uint32_t, 3>> faces() const;
-  // Host index of each used vertex (increasing; 0, 1, 2, ... for a strictly checked mesh).
+  // Host index of each vertex of vertices(): the used host vertices (increasing), then each
+  // copy of a split non-manifold vertex as its host vertex's index (so not increasing, and
+  // repeated, when something was split); 0, 1, 2, ... for a strictly checked mesh.
   std::vector<std::uint32_t> used_vertices() const;
-  // What the intake left out, as a sentence ("" if nothing).
+  // What the intake left out or split, as a sentence ("" if nothing).
   std::string warning() const;
 
   const detail::MeshData& data() const noexcept { return *data_; }

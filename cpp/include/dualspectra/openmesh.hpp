@@ -11,12 +11,15 @@
 // Works with any OpenMesh mesh type (TriMesh or PolyMesh kernels, float or double points).
 // Conversion: the non-deleted vertices, in handle order, and the non-deleted faces are the
 // host's arrays handed to the core's mesh intake (dualspectra::Mesh::from_host): it leaves out
-// zero-area faces and vertices in no face (isolated), says so in conv.mesh.warning() and in the
-// result's warnings, and gives every result back for all non-deleted vertices (`false` / 0 at
-// the left-out ones). Deleted elements (before garbage_collection) are skipped here. Every face
-// must be a triangle: a polygon face throws dualspectra::Error(Status::InvalidMesh) naming it
-// (triangulate first: mesh.triangulate()). What the intake cannot repair throws
-// Error(Status::InvalidMesh) with its reason.
+// zero-area faces and vertices in no face (isolated), splits non-manifold vertices (two sheets
+// of faces meeting at one vertex: each extra sheet gets a copy of it), says so in
+// conv.mesh.warning() and in the result's warnings, and gives every result back for all
+// non-deleted vertices (`false` / 0 at the left-out ones; a split vertex is in the region if
+// any copy is). Deleted elements (before garbage_collection) are skipped here. Every face must
+// be a triangle: a polygon face throws dualspectra::Error(Status::InvalidMesh) naming it
+// (triangulate first: mesh.triangulate()). What the intake cannot use (a non-finite
+// coordinate, no faces, every face of zero area) throws Error(Status::InvalidMesh) with its
+// reason.
 #pragma once
 
 #include <cstddef>

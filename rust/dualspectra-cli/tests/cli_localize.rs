@@ -69,7 +69,7 @@ fn localize_writes_the_json_schema_and_a_ply() {
     let d = demo_dir();
     let out_dir = tmp("localize");
     let (json, ply) = (out_dir.join("r.json"), out_dir.join("r.ply"));
-    run(bin()
+    let out = run(bin()
         .args(["localize", "--quiet"])
         .arg(d.join("full.off"))
         .arg(d.join("partial.off"))
@@ -93,6 +93,12 @@ fn localize_writes_the_json_schema_and_a_ply() {
         "indices sorted and unique"
     );
     assert!(v["cost"].as_f64().unwrap().is_finite());
+    let confidence = v["confidence"].as_f64().expect("confidence number");
+    assert!((0.0..=1.0).contains(&confidence), "confidence {confidence} outside [0, 1]");
+    // The one-line summary says the same region size and confidence as the JSON.
+    let summary = String::from_utf8_lossy(&out.stdout);
+    let said = format!("region: {} of {n} vertices, confidence {confidence:.2}, cost ", idx.len());
+    assert!(summary.starts_with(&said), "{summary:?} does not start with {said:?}");
     assert!(v["seconds"].as_f64().unwrap() >= 0.0);
     assert_eq!(v["options"]["mode"], "dual");
     assert_eq!(v["options"]["seed"], 3);

@@ -652,6 +652,12 @@ fn host_meshes_the_intake_cannot_repair_are_refused_in_the_hosts_numbering() {
     let f = [0u32, 1, 2, 0, 2, 7];
     assert_eq!(unsafe { ds_mesh_create_from_host(v.as_ptr(), 3, f.as_ptr(), 2, &mut h) }, DS_INVALID_MESH);
     assert!(last_error().contains("face 1 refers to vertex 7"), "{}", last_error());
+    // A NaN coordinate behind a loose vertex: named as the host numbers it (3), not as the
+    // intake would after leaving the loose vertex out (2).
+    let v = [9.0, 9.0, 9.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, f64::NAN, 1.0, 0.0, 1.0, 1.0, 0.0];
+    let f = [1u32, 2, 3, 2, 4, 3];
+    assert_eq!(unsafe { ds_mesh_create_from_host(v.as_ptr(), 5, f.as_ptr(), 2, &mut h) }, DS_INVALID_MESH);
+    assert!(last_error().contains("vertex 3 has a non-finite coordinate"), "{}", last_error());
     assert!(h.is_null());
 }
 

@@ -3,8 +3,8 @@
 //!
 //! Finds the region of `FULL` that `PARTIAL` (a deformed, cut copy) corresponds to, with
 //! `dualspectra::localize` (docs/algorithm.md, whole pipeline). Writes the result as JSON
-//! (`region`: 0-based vertex indices of FULL; `cost`; `seconds`; `mode`; `n_starts`;
-//! `timings`; the eigenvalues at the optimum and the partial's target spectra) to `OUT`
+//! (`region`: 0-based vertex indices of FULL; `confidence`; `cost`; `seconds`; `mode`;
+//! `n_starts`; `timings`; the eigenvalues at the optimum and the partial's target spectra) to `OUT`
 //! with `--json`, else to standard output; `--ply` writes FULL with the region coloured
 //! (vertex colours). A progress bar runs on standard error.
 
@@ -130,6 +130,9 @@ pub struct Args {
 #[derive(Debug, Serialize)]
 pub struct Output<'a> {
     pub region: Vec<usize>,
+    /// In [0, 1]: the estimated probability that the region overlaps the true one with
+    /// IoU >= 0.5 ([`Localization::confidence`]).
+    pub confidence: f64,
     pub cost: f64,
     pub seconds: f64,
     /// Every option the localizer ran with.
@@ -156,6 +159,7 @@ impl<'a> Output<'a> {
     ) -> Self {
         Output {
             region: region_indices(&loc.region),
+            confidence: loc.confidence,
             cost: loc.cost,
             seconds,
             options,
@@ -282,9 +286,10 @@ pub fn run(args: Args) -> Result<(), CliError> {
         Some(path) => {
             write_text(path, &text)?;
             println!(
-                "region: {} of {} vertices, cost {:.6e}, {:.2} s ({} starts)",
+                "region: {} of {} vertices, confidence {:.2}, cost {:.6e}, {:.2} s ({} starts)",
                 out.region.len(),
                 full_report.file_vertices,
+                loc.confidence,
                 loc.cost,
                 seconds,
                 loc.n_starts

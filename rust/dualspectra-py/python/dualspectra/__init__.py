@@ -153,8 +153,8 @@ class Localizer:
 
     Args:
         vertices, faces: the full shape M, ``(n, 3)`` and ``(m, 3)``. Degenerate faces and
-            vertices in no face are left out (with a warning); results are still indexed by
-            these ``n`` vertices.
+            vertices in no face are left out and non-manifold edges and vertices split (with
+            a warning); results are still indexed by these ``n`` vertices.
         progress: optional ``callback(fraction, stage)`` for the preparation; returning
             ``False`` cancels (:class:`Cancelled`), an exception it raises (or Ctrl-C) is
             re-raised.
@@ -164,8 +164,8 @@ class Localizer:
 {options}
 
     Raises:
-        MeshError: the full mesh is invalid (index out of range, non-finite coordinate,
-        non-manifold edge, no usable face). Cancelled: the callback returned ``False``.
+        MeshError: the full mesh cannot be used (index out of range, non-finite coordinate,
+        no faces, every face degenerate). Cancelled: the callback returned ``False``.
     """
 
     __slots__ = ("_native",)
@@ -194,7 +194,8 @@ class Localizer:
 
         Args:
             partial_vertices, partial_faces: the partial shape N, ``(p, 3)`` and ``(q, 3)``
-                (degenerate faces and loose vertices are left out, with a warning).
+                (degenerate faces and loose vertices are left out and non-manifold edges
+                and vertices split, with a warning).
             progress: optional ``callback(fraction, stage)``; returning ``False`` cancels.
 
         Returns:
@@ -202,8 +203,10 @@ class Localizer:
             its ``timings["preparation"]`` is 0 (see :attr:`preparation_seconds`).
 
         Raises:
-            MeshError: the partial mesh is invalid. ValueError: the partial cannot be
-            matched (e.g. it has no boundary, or is larger than the full shape).
+            MeshError: the partial mesh cannot be used (index out of range, non-finite
+            coordinate, no faces, every face degenerate). ValueError: the partial cannot be
+            matched (e.g. it has no boundary or no interior vertex, or is larger than the
+            full shape).
             Cancelled: the callback returned ``False``.
         """
         pv, pf = _mesh_arrays(partial_vertices, partial_faces, "partial mesh")
@@ -259,7 +262,8 @@ def localize(
     Args:
         full_vertices, full_faces: the full shape M, ``(n, 3)`` and ``(m, 3)``.
         partial_vertices, partial_faces: the partial shape N. For both meshes, degenerate
-            faces and vertices in no face are left out (with a warning).
+            faces and vertices in no face are left out and non-manifold edges and vertices
+            split (with a warning).
         progress: optional ``callback(fraction, stage)``; returning ``False`` cancels.
         **options: the core's options by name (``ValueError`` for an unknown name or a value
             out of range; see :func:`options_schema`):
@@ -273,8 +277,10 @@ def localize(
         ``candidates``, ``timings``, ``warnings``).
 
     Raises:
-        MeshError: a mesh is invalid. Cancelled: the callback returned ``False``. An
-        exception raised by the callback, or ``KeyboardInterrupt`` (Ctrl-C), is re-raised.
+        MeshError: a mesh cannot be used (as for :class:`Localizer`). ValueError: the
+        partial cannot be matched (as for :meth:`Localizer.locate`). Cancelled: the
+        callback returned ``False``. An exception raised by the callback, or
+        ``KeyboardInterrupt`` (Ctrl-C), is re-raised.
     """
     fv, ff = _mesh_arrays(full_vertices, full_faces, "full mesh")
     pv, pf = _mesh_arrays(partial_vertices, partial_faces, "partial mesh")
