@@ -1,7 +1,7 @@
-//! Stability under input noise at the last bits (issue "real partials", item 6): every
-//! coordinate of both shapes moved by a uniform random offset of relative size `EPS` (of
-//! the bounding-box diagonal), `RUNS` times per pair; prints each run's symmetry-aware IoU
-//! and the spread (max - min) per pair. A research harness; numbers go to docs/benchmarks/.
+//! Stability under input noise at the last bits: every coordinate of both shapes moved by a
+//! uniform random offset of relative size `EPS` (of the bounding-box diagonal), `RUNS`
+//! times per pair; prints each run's symmetry-aware IoU, the spread (max - min) per pair
+//! and the start each run chose. A research harness; numbers go to docs/benchmarks/.
 //!
 //! `cargo run --release --example research_jitter -- ROOT [PAIRS_PER_SET] [RUNS] [EPS]`
 //!
@@ -45,6 +45,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         for pair in pairs.iter().step_by(step).take(per_set) {
             let data = pair.load()?;
             let mut ious = Vec::new();
+            let mut chosen = Vec::new();
             for run in 0..=runs {
                 // Run 0 is the input as read; runs 1.. are jittered.
                 let (full, partial) = if run == 0 {
@@ -58,10 +59,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     None => scores(&found.region, &data.gt)?.iou,
                 };
                 ious.push(iou);
+                chosen.push(found.candidates[found.selected_start].label.clone());
             }
             let (lo, hi) = ious.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &x| (l.min(x), h.max(x)));
             let shown: Vec<String> = ious.iter().map(|x| format!("{x:.3}")).collect();
-            println!("{set} {} spread {:.3} iou [{}]", pair.name, hi - lo, shown.join(" "));
+            println!("{set} {} spread {:.3} iou [{}] chosen [{}]", pair.name, hi - lo, shown.join(" "), chosen.join(" "));
             spreads.push(hi - lo);
         }
     }
