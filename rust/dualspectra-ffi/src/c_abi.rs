@@ -560,9 +560,9 @@ unsafe fn mesh_arrays<'a>(xyz: *const f64, n_vertices: usize, tri: *const u32, n
 ///
 /// Errors: `DS_INVALID_ARGUMENT` (NULL/misaligned pointers, overflowing counts),
 /// `DS_OUT_OF_MEMORY` (counts too large to hold the mesh: checked before the arrays are read),
-/// `DS_INVALID_MESH` (index out of range, repeated/degenerate face, non-manifold edge (in
-/// more than two faces, as when a triangle is given twice) or vertex (its faces in several
-/// fans), vertex in no face, non-finite coordinate, no faces).
+/// `DS_INVALID_MESH` (index out of range, a face repeating a vertex or of zero area, a
+/// triangle given twice, non-manifold edge (in more than two faces) or vertex (its faces in
+/// several fans), vertex in no face, non-finite coordinate, no faces).
 ///
 /// # Safety
 /// `xyz` must point to `3 * n_vertices` doubles and `tri` to `3 * n_faces` uint32 (or be NULL
@@ -586,7 +586,8 @@ pub unsafe extern "C" fn ds_mesh_create(
 }
 
 /// Create a mesh from a host's arrays (an editor's mesh, a scan, a file) through the core's
-/// intake: faces that repeat a vertex or have zero area are left out; non-manifold edges (in
+/// intake: faces that repeat a vertex or have zero area, and repeated copies of a triangle,
+/// are left out; non-manifold edges (in
 /// more than two faces) and vertices (faces in several fans) are split, each extra fan of a
 /// vertex getting a copy of it (no face removed; the rule of the core's `mesh::repair`); then
 /// vertices in no face are left out. The mesh remembers the map back to the host's vertices.

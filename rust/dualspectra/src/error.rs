@@ -19,6 +19,8 @@ pub enum MeshError {
     RepeatedVertexInFace { face: usize },
     #[error("face {face} has zero area (degenerate)")]
     DegenerateFace { face: usize },
+    #[error("face {face} has the same three vertices as face {first} (a triangle given twice)")]
+    RepeatedFace { face: usize, first: usize },
     #[error("edge ({a}, {b}) is shared by {count} faces (non-manifold)")]
     NonManifoldEdge { a: u32, b: u32, count: usize },
     #[error("vertex {vertex} belongs to no face (isolated); {count} isolated vertices in all")]

@@ -303,7 +303,7 @@ fn two_sided_flaps_are_removed_with_their_tip() {
         matches!(
             err,
             Error::InvalidMeshFile {
-                source: dualspectra::MeshError::NonManifoldEdge { a: 0, b: 1, count: 4 },
+                source: dualspectra::MeshError::RepeatedFace { face: 5, first: 2 },
                 ..
             }
         ),

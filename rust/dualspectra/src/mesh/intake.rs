@@ -32,6 +32,8 @@ pub struct MeshIntake {
     pub n_host_vertices: usize,
     /// Host faces left out as degenerate (repeated vertex or zero area).
     pub dropped_faces: usize,
+    /// Host faces left out as repeated copies of another (see [`MeshIntake::new`]).
+    pub repeated_faces: usize,
     /// Host vertices left out (used by no kept face).
     pub dropped_vertices: usize,
     /// Host edges that were in more than two faces, cut (see [`super::repair`]).
@@ -59,6 +61,15 @@ impl MeshIntake {
         let good_faces: Vec<usize> = (0..faces.len()).filter(|&i| !is_degenerate(&vertices, &faces[i])).collect();
         let good: Vec<[u32; 3]> = good_faces.iter().map(|&i| faces[i]).collect();
         let dropped_faces = faces.len() - good.len();
+        if good.is_empty() {
+            return Err(MeshError::AllFacesDegenerate { count: faces.len() }.into());
+        }
+        // Triangles given twice: removed as the readers do (a triangle and its reverse cancel,
+        // of the copies left one is kept).
+        let unique = super::io::duplicate_free(&good);
+        let repeated_faces = unique.iter().filter(|&&k| !k).count();
+        let (good_faces, good): (Vec<usize>, Vec<[u32; 3]>) =
+            good_faces.into_iter().zip(good).zip(&unique).filter(|(_, &k)| k).map(|(p, _)| p).unzip();
         if good.is_empty() {
             return Err(MeshError::AllFacesDegenerate { count: faces.len() }.into());
         }
@@ -99,6 +110,7 @@ impl MeshIntake {
             kept,
             n_host_vertices: n,
             dropped_faces,
+            repeated_faces,
             dropped_vertices,
             non_manifold_edges_split: split.edges_split,
             non_manifold_vertices_split: split.vertices_split,
@@ -165,6 +177,9 @@ impl MeshIntake {
     /// What was changed, as a sentence for the user (`None` if nothing was).
     pub fn warning(&self, what: &str) -> Option<String> {
         let mut parts = Vec::new();
+        if self.repeated_faces > 0 {
+            parts.push(format!("removed {} repeated face(s) (a triangle given twice)", self.repeated_faces));
+        }
         if self.dropped_faces > 0 || self.dropped_vertices > 0 {
             parts.push(format!(
                 "left out {} degenerate face(s) and {} vertex(es) in no face; results at those vertices are empty",
@@ -219,6 +234,18 @@ pub(super) fn is_degenerate(vertices: &[[f64; 3]], f: &[u32; 3]) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Issue 23 item 5: two identical copies of a triangle are one triangle, said so.
+    #[test]
+    fn hostile_05_a_triangle_given_twice_is_removed_and_reported() {
+        let v = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.0]];
+        let intake = MeshIntake::new(v.clone(), vec![[0, 1, 2], [1, 3, 2], [0, 1, 2]]).unwrap();
+        assert_eq!((intake.mesh.n_faces(), intake.repeated_faces), (2, 1));
+        assert!(intake.warning("mesh").unwrap().contains("removed 1 repeated face(s)"));
+        // The strict constructor refuses it, naming both faces.
+        let e = TriMesh::new(v, vec![[0, 1, 2], [1, 3, 2], [2, 0, 1]]).unwrap_err().to_string();
+        assert!(e.contains("face 2 has the same three vertices as face 0"), "{e}");
+    }
 
     #[test]
     fn drops_degenerate_faces_and_loose_vertices_and_maps_back() {

@@ -103,8 +103,8 @@ pub struct ReadOptions {
     pub drop_isolated: bool,
     /// Remove repeated triangles (same three vertices): pairs of opposite orientation
     /// cancel, the rest is kept once; vertices used only by removed triangles are
-    /// dropped. Default `true`. With `false`, repeated triangles usually make their edges
-    /// non-manifold (split, see below).
+    /// dropped. Default `true`. With `false`, a repeated triangle fails validation as
+    /// [`MeshError::RepeatedFace`].
     pub remove_duplicate_faces: bool,
     /// Split non-manifold edges and vertices ([`super::repair`]): copies of their vertices
     /// are appended, mapped to the file's in [`ReadReport::kept_vertices`]. Default `true`.
@@ -532,7 +532,7 @@ fn build(raw: RawMesh, format: MeshFormat, path: &Path, options: &ReadOptions) -
 /// `keep[t]` for every triangle: a triangle and its reverse cancel (oriented 2-chains);
 /// of the copies left, all in one orientation, the first is kept. Copies are found by
 /// sorting triangle numbers by vertex set (4 bytes per triangle, no hash table).
-fn duplicate_free(faces: &[[u32; 3]]) -> Vec<bool> {
+pub(super) fn duplicate_free(faces: &[[u32; 3]]) -> Vec<bool> {
     // Rotate the smallest index first: same set and same orientation <=> same rotation.
     let rotated = |f: [u32; 3]| {
         let m = (0..3).min_by_key(|&c| f[c]).unwrap_or(0);
@@ -575,6 +575,7 @@ fn to_file_numbering(e: MeshError, face_origin: &[u32], kept: &[u32]) -> MeshErr
         MeshError::NonFiniteCoordinate { vertex } => MeshError::NonFiniteCoordinate { vertex: v(vertex) },
         MeshError::RepeatedVertexInFace { face } => MeshError::RepeatedVertexInFace { face: f(face) },
         MeshError::DegenerateFace { face } => MeshError::DegenerateFace { face: f(face) },
+        MeshError::RepeatedFace { face, first } => MeshError::RepeatedFace { face: f(face), first: f(first) },
         MeshError::NonManifoldEdge { a, b, count } => {
             let (a, b) = (v(a as usize) as u32, v(b as usize) as u32);
             MeshError::NonManifoldEdge {

@@ -155,6 +155,11 @@ fn validate(vertices: &[[f64; 3]], faces: &[[u32; 3]], split: bool) -> Result<()
     if let Some(fi) = faces.iter().position(|f| intake::is_degenerate(vertices, f)) {
         return Err(MeshError::DegenerateFace { face: fi });
     }
+    // A triangle given twice (in either orientation) would pass the edge test as a closed
+    // two-face sheet; the first repeat in face order is reported.
+    if let Some((face, first)) = repeated_face(faces) {
+        return Err(MeshError::RepeatedFace { face, first });
+    }
     // Edge- then vertex-manifold; the smallest offending edge, then vertex, is reported.
     if split {
         debug_assert_eq!(repair::check_manifold(n, faces), Ok(()));
@@ -168,4 +173,22 @@ fn validate(vertices: &[[f64; 3]], faces: &[[u32; 3]], split: bool) -> Result<()
         return Err(MeshError::IsolatedVertex { vertex: v, count: isolated });
     }
     Ok(())
+}
+
+/// The first face (in order) with the same vertex set as an earlier one, and that earlier
+/// face: `(face, first)`. Sorting face numbers by vertex set, 4 bytes per face.
+fn repeated_face(faces: &[[u32; 3]]) -> Option<(usize, usize)> {
+    let set = |t: u32| {
+        let mut key = faces[t as usize];
+        key.sort_unstable();
+        key
+    };
+    let m = u32::try_from(faces.len()).ok()?;
+    let mut order: Vec<u32> = (0..m).collect();
+    order.sort_unstable_by(|&s, &t| set(s).cmp(&set(t)).then(s.cmp(&t)));
+    order
+        .chunk_by(|&s, &t| set(s) == set(t))
+        .filter(|g| g.len() > 1)
+        .map(|g| (g[1] as usize, g[0] as usize))
+        .min()
 }
