@@ -219,6 +219,19 @@ fn mean_scores(rs: &[PairResult], f: impl Fn(&PairResult) -> Scores) -> Scores {
     }
 }
 
+/// Timings whose every stage is `stat` of that stage's field.
+fn per_stage(stat: impl Fn(fn(&Timings) -> f64) -> f64) -> Timings {
+    Timings {
+        preparation: stat(|t| t.preparation),
+        preprocessing: stat(|t| t.preprocessing),
+        starts: stat(|t| t.starts),
+        optimisation: stat(|t| t.optimisation),
+        selection: stat(|t| t.selection),
+        region: stat(|t| t.region),
+        total: stat(|t| t.total),
+    }
+}
+
 /// Summary over the pairs (failed pairs count with scores 0).
 pub fn summarize(results: &[PairResult]) -> Summary {
     let secs: Vec<f64> = results
@@ -236,15 +249,7 @@ pub fn summarize(results: &[PairResult]) -> Summary {
         mean_area_iou: metrics::mean(&results.iter().map(|r| r.area_iou).collect::<Vec<_>>()),
         median_seconds: metrics::median(&secs),
         total_seconds: secs.iter().sum(),
-        median_stage_seconds: Timings {
-            preparation: stage(|t| t.preparation),
-            preprocessing: stage(|t| t.preprocessing),
-            starts: stage(|t| t.starts),
-            optimisation: stage(|t| t.optimisation),
-            selection: stage(|t| t.selection),
-            region: stage(|t| t.region),
-            total: stage(|t| t.total),
-        },
+        median_stage_seconds: per_stage(stage),
     }
 }
 
@@ -437,15 +442,7 @@ fn mean_of_sets(summaries: &[&Summary]) -> Summary {
         mean_area_iou: m(&|s| s.mean_area_iou),
         median_seconds: med(&|s| s.median_seconds),
         total_seconds: summaries.iter().map(|s| s.total_seconds).sum(),
-        median_stage_seconds: Timings {
-            preparation: t(|t| t.preparation),
-            preprocessing: t(|t| t.preprocessing),
-            starts: t(|t| t.starts),
-            optimisation: t(|t| t.optimisation),
-            selection: t(|t| t.selection),
-            region: t(|t| t.region),
-            total: t(|t| t.total),
-        },
+        median_stage_seconds: per_stage(t),
     }
 }
 

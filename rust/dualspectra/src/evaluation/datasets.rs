@@ -289,6 +289,18 @@ pub fn parse_barycentric_gt(text: &str, path: &Path) -> Result<Vec<BarycentricRo
     Ok(rows)
 }
 
+/// Row `r`'s triangle (0-based), or an error naming the row if it is not below `n_records`.
+fn checked_triangle(row: &BarycentricRow, r: usize, n_records: usize, path: &Path) -> Result<usize> {
+    let t = row.triangle as usize;
+    if t >= n_records {
+        return Err(parse_err(
+            path,
+            format!("row {}: triangle {} is out of range (the full shape has {n_records} faces; indices are 1-based)", r + 1, t + 1),
+        ));
+    }
+    Ok(t)
+}
+
 /// Ground-truth mask over `full`'s vertices: the three vertices of every row's triangle.
 /// `face_groups[r]` lists the mesh triangles of file face record `r` (the identity for a
 /// pure triangle file; a polygon record maps to its fan triangles). Errors name the row
@@ -302,13 +314,7 @@ pub fn ground_truth_mask(
     let n_records = face_groups.map_or(full.n_faces(), |g| g.len());
     let mut mask = vec![false; full.n_vertices()];
     for (r, row) in rows.iter().enumerate() {
-        let t = row.triangle as usize;
-        if t >= n_records {
-            return Err(parse_err(
-                path,
-                format!("row {}: triangle {} is out of range (the full shape has {n_records} faces; indices are 1-based)", r + 1, t + 1),
-            ));
-        }
+        let t = checked_triangle(row, r, n_records, path)?;
         let mut mark = |tri: usize| {
             full.faces()[tri]
                 .iter()
@@ -360,13 +366,7 @@ pub fn ground_truth_mask_in_file(
     copies.sort_unstable();
     let mut mask = vec![false; full.n_vertices()];
     for (r, row) in rows.iter().enumerate() {
-        let t = row.triangle as usize;
-        if t >= n_records {
-            return Err(parse_err(
-                path,
-                format!("row {}: triangle {} is out of range (the full shape has {n_records} faces; indices are 1-based)", r + 1, t + 1),
-            ));
-        }
+        let t = checked_triangle(row, r, n_records, path)?;
         let mut marked = false;
         let mut mark = |v: u32| {
             if let Some(m) = mask.get_mut(v as usize) {
