@@ -4,11 +4,13 @@
 Two layouts:
 
 * ``--legacy DIR``: ``DIR/dualspectra_blender/`` = the add-on + the ``dualspectra``
-  package unzipped from the wheel beside it (Blender 3.4 - 4.1: copy DIR's content into
+  package unzipped from the wheel as its subpackage ``dualspectra_blender/dualspectra/``
+  (with the library's licence texts; Blender 3.4 - 4.1: copy DIR's content into
   ``<user scripts>/addons/`` or point ``BLENDER_USER_SCRIPTS`` at DIR's parent layout);
-* ``--extension ZIP``: a Blender 4.2+ extension archive: the add-on files and
-  ``blender_manifest.toml`` at the root, the wheel(s) under ``wheels/`` and listed in the
-  manifest, ``platforms`` derived from the wheels' tags.
+* ``--extension ZIP``: a Blender 4.2+ extension archive: the add-on files, its LICENSE and
+  ``blender_manifest.toml`` at the root, the wheel(s) unmodified under ``wheels/`` and listed
+  in the manifest, ``platforms`` derived from the wheels' tags. Give it the manylinux wheel
+  (``scripts/setup.d/30-python.sh`` builds it), not a ``linux_x86_64`` one.
 
     python3 blender_addon/build_extension.py --wheel target/wheels/dualspectra-*.whl \\
         --legacy /tmp/scripts/addons --extension /tmp/dualspectra_blender-0.1.0.zip
@@ -31,7 +33,7 @@ def addon_files():
     for root, dirs, files in os.walk(ADDON):
         dirs[:] = [d for d in dirs if d not in ("__pycache__", PACKAGE, "wheels")]
         for f in files:
-            if f.endswith((".py", ".toml")):
+            if f.endswith((".py", ".toml")) or f == "LICENSE":
                 out.append(os.path.relpath(os.path.join(root, f), ADDON))
     return sorted(out)
 
@@ -73,6 +75,11 @@ def build_legacy(wheel, out_dir):
         if not any(re.search(r"/_dualspectra[^/]*\.(so|pyd|dylib)$", n) for n in members):
             raise SystemExit(f"{wheel} has no native {PACKAGE}/_dualspectra module")
         z.extractall(dest, members)
+        # The library's licence texts (the wheel's .dist-info/licenses/) go with its copy.
+        for n in z.namelist():
+            if re.fullmatch(r"[^/]+\.dist-info/licenses/[^/]+", n):
+                with open(os.path.join(dest, PACKAGE, os.path.basename(n)), "wb") as f:
+                    f.write(z.read(n))
     return dest
 
 
@@ -81,6 +88,10 @@ def build_extension(wheels, out_zip):
     with open(os.path.join(ADDON, "blender_manifest.toml"), encoding="utf-8") as f:
         manifest = f.read()
     names = [os.path.basename(w) for w in wheels]
+    for n in names:
+        if any(t.startswith("linux_") for t in n[:-len(".whl")].split("-")[-1].split(".")):
+            raise SystemExit(f"{n}: a linux_* wheel is for this machine only; bundle a manylinux one "
+                             "(maturin build --zig --compatibility manylinux_2_28)")
     platforms = sorted(set().union(*(wheel_platforms(w) for w in wheels)))
     listed = ", ".join(f'"./wheels/{n}"' for n in names)
     manifest, n_w = re.subn(r"(?m)^wheels = \[.*\]$", f"wheels = [{listed}]", manifest)

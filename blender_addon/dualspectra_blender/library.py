@@ -1,12 +1,13 @@
 """Find the ``dualspectra`` Python package (with its native ``_dualspectra`` module).
 
-Looked up in this order:
+Looked up in this order, by ordinary imports:
 
-1. beside the add-on: ``<add-on folder>/dualspectra/`` (the package directory unzipped
-   from the wheel; how the legacy add-on for Blender < 4.2 is installed);
-2. an installed ``dualspectra`` (Blender 4.2+ installs the wheels listed in
-   ``blender_manifest.toml`` into the extension's site-packages; a ``bpy`` module in a
-   venv sees a ``pip install``-ed wheel).
+1. the add-on's own subpackage ``dualspectra`` (``<add-on>/dualspectra/``, the package
+   unzipped from the wheel): how the legacy add-on for Blender < 4.2 is installed
+   (``blender_addon/build_extension.py --legacy``); imported relatively, as a vendored module;
+2. an installed ``dualspectra``: Blender 4.2+ installs the wheel an extension lists in
+   ``blender_manifest.toml`` (the extension has no subpackage of that name); a ``bpy`` module
+   in a venv sees a ``pip install``-ed wheel.
 
 The import is done once, lazily, so that the add-on registers (and shows an error in
 the panel) even when the native module is missing or built for another platform.
@@ -14,33 +15,18 @@ the panel) even when the native module is missing or built for another platform.
 
 import importlib
 import importlib.util
-import os
 import sys
-
-_BESIDE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "dualspectra")
 
 _module = None
 _error = None
 
 
-def _import_beside():
-    init = os.path.join(_BESIDE, "__init__.py")
-    if not os.path.isfile(init):
-        return None
-    existing = sys.modules.get("dualspectra")
-    if existing is not None:
-        # Already imported (e.g. the add-on was disabled and enabled again): a native
-        # module cannot be loaded twice into one process, so keep the loaded one.
-        return existing
-    spec = importlib.util.spec_from_file_location("dualspectra", init, submodule_search_locations=[_BESIDE])
-    module = importlib.util.module_from_spec(spec)
-    sys.modules["dualspectra"] = module
-    try:
-        spec.loader.exec_module(module)
-    except BaseException:
-        del sys.modules["dualspectra"]
-        raise
-    return module
+def _import():
+    """The legacy layout's subpackage if the add-on has one, else the installed package."""
+    vendored = f"{__package__}.dualspectra"
+    if importlib.util.find_spec(vendored) is not None:
+        return importlib.import_module(vendored)
+    return importlib.import_module("dualspectra")
 
 
 def load():
@@ -51,13 +37,11 @@ def load():
     if _error is not None:
         raise ImportError(_error)
     try:
-        module = _import_beside()
-        if module is None:
-            module = importlib.import_module("dualspectra")
+        module = _import()
     except ImportError as exc:
         _error = (
-            f"dualspectra native module not found or not loadable ({exc}); looked in {_BESIDE} "
-            f"and in Python {sys.version.split()[0]}'s sys.path"
+            f"dualspectra native module not found or not loadable ({exc}); looked for the add-on's "
+            f"subpackage {__package__}.dualspectra and in Python {sys.version.split()[0]}'s sys.path"
         )
         raise ImportError(_error) from exc
     for name in ("Localizer", "options_schema", "Cancelled", "MeshError"):

@@ -5,7 +5,7 @@
 
 The add-on must be installed where Blender finds it: as a legacy add-on
 (``$BLENDER_USER_SCRIPTS/addons/dualspectra_blender`` with the ``dualspectra`` package
-beside it; default) or, with ``--extension ZIP``, installed here from the Blender 4.2+
+as its subpackage; default) or, with ``--extension ZIP``, installed here from the Blender 4.2+
 extension archive (the bundled wheel is installed by Blender). Then the test builds two
 meshes, a lumpy closed surface and a part of it cut by a plane moved by a rigid motion,
 gives both objects different transforms (non-uniform object scale included, the world

@@ -1,8 +1,14 @@
 // An outside project using the installed package (find_package(dualspectra) +
 // dualspectra::dualspectra): the C and the C++ API, typed exceptions, options by name, and one
-// Localizer locating two partials exactly as two one-call localizations do.
+// Localizer locating two partials exactly as two one-call localizations do. Built with
+// DS_CONSUMER_CGAL (component `cgal`, dualspectra::cgal): the same full mesh as a
+// CGAL::Surface_mesh through dualspectra/cgal.hpp gives the same region.
 #include <dualspectra/dualspectra.hpp>
 #include <dualspectra/dualspectra.h>
+#ifdef DS_CONSUMER_CGAL
+#include <CGAL/Simple_cartesian.h>
+#include <dualspectra/cgal.hpp>
+#endif
 
 #include <algorithm>
 #include <array>
@@ -159,6 +165,23 @@ int main() {
     ds_mesh_destroy(cpart);
     ds_mesh_destroy(cfull);
     ds_options_destroy(copts);
+
+#ifdef DS_CONSUMER_CGAL
+    // The full mesh as a CGAL::Surface_mesh: same vertices, same region, written back to a map.
+    using Point = CGAL::Simple_cartesian<double>::Point_3;
+    CGAL::Surface_mesh<Point> sm;
+    std::vector<CGAL::Surface_mesh<Point>::Vertex_index> vi;
+    for (const auto& p : V) vi.push_back(sm.add_vertex(Point(p[0], p[1], p[2])));
+    for (const auto& f : F) sm.add_face(vi[f[0]], vi[f[1]], vi[f[2]]);
+    const auto conv = dualspectra::cgal::to_mesh(sm);
+    const auto via_cgal = dualspectra::localize(conv.mesh, top, opts);
+    const auto map = dualspectra::cgal::write_region(sm, conv, via_cgal);
+    std::size_t marked = 0;
+    for (auto v : sm.vertices()) marked += map[v] ? 1 : 0;
+    check(conv.mesh.n_vertices() == V.size() && conv.mesh.n_faces() == F.size() && via_cgal.region == cpp.region &&
+              marked == cpp.region_vertices().size(),
+          "CGAL Surface_mesh (dualspectra::cgal): same region, " + std::to_string(marked) + " vertices in the map");
+#endif
   } catch (const std::exception& e) {
     check(false, std::string("unexpected exception: ") + e.what());
   }
