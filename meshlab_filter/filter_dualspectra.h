@@ -1,14 +1,12 @@
-// MeshLab 2020.09 filter plugin: "Localize partial shape (dual spectra)".
+// MeshLab 2020.09 filter plugin (MeshFilterInterface): "Localize partial shape (dual spectra)".
 // Selects, on a full mesh layer, the region that a partial (possibly deformed) mesh layer is.
-// Only MeshLab glue: the computation is the dualspectra C ABI (see localize_job.h). The
-// localizer's parameters are built from the library's option table (ds_options_schema_json),
-// so a new option of the library needs no edit here.
+// Only the 2020.09 interface is here: the parameters from the library's option table are
+// option_parameters.h, the localization between two layers localize_layers.h, shared with the
+// MeshLab 2025.07 plugin (filter_dualspectra_2025.h).
 #ifndef DUALSPECTRA_MESHLAB_FILTER_H
 #define DUALSPECTRA_MESHLAB_FILTER_H
 
 #include <common/interfaces.h>
-
-#include <dualspectra/dualspectra.h>
 
 #include "localize_job.h"
 
@@ -34,10 +32,8 @@ public:
     bool applyFilter(QAction* a, MeshDocument& md, const RichParameterList& par, vcg::CallBackPos* cb) override;
 
 private:
-    /// The filter itself, with typed parameters. On failure: false, `errorMessage` set and
-    /// the same text logged as a warning (meshlabserver prints the log, not errorMessage).
-    bool localizePartial(MeshModel* full, MeshModel* partial, const ds_options* options, bool writeScore,
-                         vcg::CallBackPos* cb);
+    /// False, with `errorMessage` set and the same text logged as a warning (meshlabserver
+    /// prints the log, not errorMessage).
     bool fail(const QString& message);
 
     /// Prepared full shapes, kept per full layer between calls (see dsml::LocalizerCache).

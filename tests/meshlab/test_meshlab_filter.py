@@ -38,6 +38,11 @@ Cases (each one meshlabserver run):
                `region`.
   bad-mesh     a closed partial layer (an octahedron: no boundary), which the library refuses:
                its message reaches the log, no crash.
+  readme       the headless command line of meshlab_filter/README.md, run as written there (read
+               from the README: the one line of its sh blocks that runs meshlabserver), in a
+               directory holding full.off, partial.off and meshlab_filter/localize.mlx: it must
+               save the full mesh with the selection, with IoU >= --min-iou; and the options
+               the README names are the library's.
 """
 
 import argparse
@@ -46,6 +51,7 @@ import glob
 import json
 import os
 import re
+import shlex
 import shutil
 import signal
 import subprocess
@@ -60,6 +66,7 @@ from read_selection import read_selected  # noqa: E402
 FILTER = "Localize partial shape (dual spectra)"
 REPO = os.path.dirname(os.path.dirname(HERE))
 SHIPPED_SCRIPT = os.path.join(REPO, "meshlab_filter", "localize.mlx")
+README = os.path.join(REPO, "meshlab_filter", "README.md")
 RICH_TYPE = {"int": "RichInt", "float": "RichFloat", "choice": "RichEnum"}
 
 
@@ -103,6 +110,26 @@ def mlx(*calls):
     """A filter script of `calls` (each from filter_call)."""
     return "\n".join(["<!DOCTYPE FilterScript>", "<FilterScript>"] + [l for c in calls for l in c]
                      + ["</FilterScript>", ""])
+
+
+def readme_command():
+    """The README's headless command line: the one line of its ```sh blocks running
+    meshlabserver, as an argument list."""
+    with open(README, encoding="utf-8") as f:
+        text = f.read()
+    lines = [l.strip() for block in re.findall(r"```sh\n(.*?)```", text, re.S) for l in block.splitlines()
+             if "meshlabserver" in l and not l.strip().startswith("#")]
+    if len(lines) != 1:
+        raise ValueError("%s: expected one meshlabserver command line in its sh blocks, found %d: %s"
+                         % (README, len(lines), lines))
+    return shlex.split(lines[0])
+
+
+def readme_options():
+    """The option names the README's parameter table lists (the row of the options)."""
+    with open(README, encoding="utf-8") as f:
+        row = next((l for l in f if l.startswith("| *the options*")), "")
+    return re.findall(r"`(\w+)`", row.split("(", 1)[1]) if "(" in row else []
 
 
 def find_ffi_lib():
@@ -211,6 +238,11 @@ def log_lines(text, needle):
             if line not in out:
                 out.append(line)
     return out
+
+
+def iou_of(selected, expected):
+    union = len(selected | expected)
+    return len(selected & expected) / union if union else 0.0
 
 
 def log_excerpt(text, needle):
@@ -357,6 +389,45 @@ def main():
             checks.check("bad-mesh", "localization failed" in text and "the partial shape has no boundary" in text,
                          log_excerpt(text, "no boundary"))
             no_crash(checks, "bad-mesh", status, text)
+
+        if wanted("readme"):
+            print("case readme: the headless command line of %s, as written" % os.path.relpath(README, REPO))
+            names = [spec["name"] for spec in schema]
+            checks.check("readme", readme_options() == names,
+                         "the README names the options %s (the library's: %s)" % (readme_options(), names))
+            cmd = readme_command()
+            print("  " + " ".join(cmd))
+            out = os.path.join(work, "readme", cmd[cmd.index("-o") + 1]) if "-o" in cmd else None
+            run_dir = os.path.join(work, "readme")
+            os.makedirs(run_dir)
+            for name in ("full.off", "partial.off"):
+                shutil.copy(os.path.join(work, name), run_dir)
+            os.symlink(os.path.join(REPO, "meshlab_filter"), os.path.join(run_dir, "meshlab_filter"))
+            cmd = [server if c == "meshlabserver" else c for c in cmd]
+            start = time.time()
+            proc = subprocess.Popen(cmd, cwd=run_dir, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                    start_new_session=True)
+            try:
+                stdout, _ = proc.communicate(timeout=args.timeout)
+            except subprocess.TimeoutExpired:
+                os.killpg(proc.pid, signal.SIGKILL)
+                stdout, _ = proc.communicate()
+            text = stdout.decode("utf-8", errors="replace").replace("\r", "\n")
+            print("  [readme] meshlabserver exit %d after %.1f s" % (proc.returncode, time.time() - start))
+            no_crash(checks, "readme", proc.returncode, text)
+            ok = proc.returncode == 0 and out is not None and os.path.exists(out)
+            checks.check("readme", ok, "the command applied the script and saved %s (exit %d)" % (out, proc.returncode))
+            if ok:
+                n, selected = read_selected(out)
+                sel = set(selected)
+                n_full = 4 ** args.level * 10 + 2
+                checks.check("readme", n == n_full, "the saved mesh is the full mesh (%d vertices, full: %d)" % (n, n_full))
+                checks.check("readme", iou_of(sel, expected) >= args.min_iou,
+                             "IoU %.3f (>= %.2f): %d selected, %d expected"
+                             % (iou_of(sel, expected), args.min_iou, len(sel), len(expected)))
+            else:
+                for line in [l for l in text.splitlines() if l.strip()][-6:]:
+                    print("    " + line.strip())
 
         if wanted("region"):
             full_debris = os.path.join(work, "full_debris.off")

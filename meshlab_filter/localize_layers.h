@@ -1,0 +1,119 @@
+// One localization between two MeshLab layers, the same for both plugin interfaces: the
+// layers are checked, packed (layer_arrays.h) and localized (localize_job.h); the region is
+// written back as the full layer's vertex and face selection and, on request, the score as
+// vertex quality and colour. Every line for MeshLab's log goes through `log`. Templated on
+// MeshLab's MeshModel, whose members used here (cm, label(), id(), updateDataMask, MM_*) are
+// the same in MeshLab 2020.09 and 2025.07.
+#ifndef DUALSPECTRA_MESHLAB_LOCALIZE_LAYERS_H
+#define DUALSPECTRA_MESHLAB_LOCALIZE_LAYERS_H
+
+#include <algorithm>
+#include <cstddef>
+#include <string>
+#include <type_traits>
+
+#include <QString>
+
+#include <vcg/complex/algorithms/update/color.h>
+#include <vcg/complex/algorithms/update/selection.h>
+
+#include "layer_arrays.h"
+#include "localize_job.h"
+
+namespace dsml {
+
+/// What `localize_layers` did. `error` is empty on success; otherwise nothing was changed and
+/// it says why.
+struct LayersLocalized {
+    QString error;
+    size_t selected_vertices = 0;
+    size_t selected_faces = 0;
+    size_t full_vertices = 0; ///< the full layer's live vertices
+    double confidence = 0.0;  ///< in [0, 1]: estimated probability that IoU >= 0.5
+    double cost = 0.0;
+    double seconds = 0.0;     ///< locating the partial
+    bool reused = false;      ///< the full shape was prepared by an earlier call
+    size_t warnings = 0;      ///< the library's notes, each logged as a warning
+};
+
+/// Locate the layer `partial` on the layer `full` with `options` (null layers, the same layer
+/// twice or a layer without faces are refused here; the rest is the library's intake). The
+/// region becomes `full`'s vertex selection, with the faces whose three vertices are in it;
+/// with `write_score`, the score in [0, 1] is `full`'s vertex quality, coloured red (in) to
+/// blue (out). `log(warning, line)` receives the preparation, each warning and the result;
+/// `cb` the progress (false cancels).
+template <class Model, class Log>
+LayersLocalized localize_layers(LocalizerCache& cache, Model* full, Model* partial, const ds_options* options,
+                                bool write_score, vcg::CallBackPos* cb, Log&& log)
+{
+    LayersLocalized done;
+    if (full == nullptr || partial == nullptr) {
+        done.error = "choose a full and a partial layer";
+        return done;
+    }
+    if (full == partial) {
+        done.error = QString("the full and the partial layer are the same layer ('%1'); choose two different layers")
+                         .arg(full->label());
+        return done;
+    }
+    for (Model* m : {partial, full}) {
+        if (m->cm.fn == 0) {
+            done.error = QString("the %1 layer '%2' has no faces (a point cloud?); it must be a triangle mesh")
+                             .arg(m == full ? "full" : "partial", m->label());
+            return done;
+        }
+    }
+
+    const PackedLayer fullArrays = pack_layer(full->cm);
+    const PackedLayer partialArrays = pack_layer(partial->cm);
+    const LocalizeOutcome out = run_localize(cache, full->id(), fullArrays, partialArrays, options, cb);
+    if (out.status != DS_OK) {
+        done.error = QString::fromStdString(out.error);
+        if (out.status == DS_INVALID_MESH && fullArrays.n_deleted_vertices + partialArrays.n_deleted_vertices > 0)
+            done.error += "; vertex numbers count only the layer's live (not deleted) vertices";
+        return done;
+    }
+    // (concatenated, not QString::arg'ed: a layer's label may hold a "%1")
+    if (out.reused)
+        log(false, "Localize partial shape: reused the full shape '" + full->label() +
+                       "' prepared by an earlier call (same mesh and options)");
+    else
+        log(false, "Localize partial shape: prepared the full shape '" + full->label() + "' in " +
+                       QString::number(out.preparation_seconds, 'f', 2) + " s (" +
+                       QString::number(out.optimisation_vertices) +
+                       " optimisation vertices); kept for further parts on this layer");
+    for (const std::string& w : out.warnings)
+        log(true, "Localize partial shape: " + QString::fromStdString(w));
+
+    using Mesh = typename std::remove_reference<decltype(full->cm)>::type;
+    done.selected_vertices = select_region(full->cm, fullArrays, out.region.data());
+    done.selected_faces = vcg::tri::UpdateSelection<Mesh>::FaceCount(full->cm);
+    full->cm.svn = int(done.selected_vertices);
+    full->cm.sfn = int(done.selected_faces);
+    if (write_score) {
+        full->updateDataMask(Model::MM_VERTQUALITY | Model::MM_VERTCOLOR);
+        write_quality(full->cm, fullArrays, out.score.data());
+        using Scalar = typename Mesh::ScalarType;
+        vcg::tri::UpdateColor<Mesh>::PerVertexQualityRamp(full->cm, Scalar(1), Scalar(0));
+    }
+    done.full_vertices = fullArrays.n_vertices();
+    done.confidence = out.confidence;
+    done.cost = out.cost;
+    done.seconds = out.seconds;
+    done.reused = out.reused;
+    done.warnings = out.warnings.size();
+    const char* json = ds_options_json(options);
+    const double percent = 100.0 * double(done.selected_vertices) / double(std::max<size_t>(1, done.full_vertices));
+    log(false, "Localized '" + partial->label() + "' on '" + full->label() + "': " +
+                   QString::number(done.selected_vertices) + " of " + QString::number(done.full_vertices) +
+                   " vertices selected (" + QString::number(percent, 'f', 1) + "%), " +
+                   QString::number(done.selected_faces) + " faces; confidence " +
+                   QString::number(done.confidence, 'f', 2) + "; cost " + QString::number(done.cost, 'g', 6) + "; " +
+                   QString::number(done.seconds, 'f', 2) + " s; options " +
+                   QString::fromUtf8(json != nullptr ? json : ""));
+    return done;
+}
+
+} // namespace dsml
+
+#endif
