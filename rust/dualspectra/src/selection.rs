@@ -16,7 +16,7 @@
 use crate::error::Result;
 use serde::{Deserialize, Serialize};
 use crate::shape::{Metric, Shape};
-use crate::spectra::{EigenParams, HamiltonianSolver};
+use crate::spectra::{EigenParams, HamiltonianSolver, Spectrum};
 
 /// The gate of [`choose`]: a candidate is admitted when its region cost is at most this multiple
 /// of the lowest (2 was worse in two of three measurements, 4 to 6 equal:
@@ -54,26 +54,39 @@ pub fn descriptor_projection(vectors: MatRef<'_, f64>, mass: &[f64], desc: &Mat<
     out
 }
 
-/// The partial's projections, one per metric.
+/// The partial's projections, one per metric: its first [`PROJECTION_EIGENFUNCTIONS`]
+/// Dirichlet eigenfunctions solved here ([`signatures_from_spectra`] with nothing known).
 pub fn partial_signatures(
     partial: &Shape,
     desc: &Mat<f64>,
     metrics: &[Metric],
 ) -> Result<Vec<Mat<f64>>> {
+    let known: Vec<(Metric, Option<&Spectrum>)> = metrics.iter().map(|&m| (m, None)).collect();
+    signatures_from_spectra(partial, desc, &known)
+}
+
+/// The partial's projections, one per metric, reusing a Dirichlet spectrum of the partial
+/// already solved for that metric when it has at least the
+/// [`PROJECTION_EIGENFUNCTIONS`] (or all but one of the free vertices) eigenfunctions needed:
+/// its first columns are the same eigenfunctions, so a second cold solve is saved. Otherwise
+/// they are solved here.
+pub fn signatures_from_spectra(
+    partial: &Shape,
+    desc: &Mat<f64>,
+    metrics: &[(Metric, Option<&Spectrum>)],
+) -> Result<Vec<Mat<f64>>> {
     let dir = partial.dirichlet();
     let desc_free = restrict_rows(desc, &dir.free);
+    let k = PROJECTION_EIGENFUNCTIONS.min(dir.n_free().saturating_sub(1)).max(1);
     metrics
         .iter()
-        .map(|&m| {
-            let k = PROJECTION_EIGENFUNCTIONS
-                .min(dir.n_free().saturating_sub(1))
-                .max(1);
-            let s = partial.dirichlet_spectrum(m, k)?;
-            Ok(descriptor_projection(
-                s.vectors.as_ref(),
-                &dir.restrict(partial.metric_mass(m)),
-                &desc_free,
-            ))
+        .map(|&(m, known)| {
+            let mass = dir.restrict(partial.metric_mass(m));
+            let project = |s: &Spectrum| descriptor_projection(s.vectors.as_ref().subcols(0, k), &mass, &desc_free);
+            match known {
+                Some(s) if s.vectors.ncols() >= k && s.vectors.nrows() == mass.len() => Ok(project(s)),
+                _ => Ok(project(&partial.dirichlet_spectrum(m, k)?)),
+            }
         })
         .collect()
 }

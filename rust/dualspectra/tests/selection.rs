@@ -1,6 +1,6 @@
 //! Laws of the choice among candidate regions (selection) on an undeformed cut.
 
-use dualspectra::selection::{partial_signatures, selection_scores};
+use dualspectra::selection::{partial_signatures, selection_scores, signatures_from_spectra};
 use dualspectra::geometry::shot::{shot_descriptors, DEFAULT_MIN_NEIGHBORS, DEFAULT_RADIUS_FRACTION};
 use dualspectra::mesh::generate::icosphere;
 use dualspectra::shape::{Metric, Shape};
@@ -52,4 +52,33 @@ fn the_true_region_reproduces_the_partials_spectra_and_descriptors() {
     assert!(rc[1] > 1.5 * rc[0], "wrong region cost {} vs true {}", rc[1], rc[0]);
     assert!(3.0 * desc[0] < desc[1], "descriptor scores {desc:?}");
     assert!(rc.iter().chain(desc).all(|x| x.is_finite() && *x >= 0.0));
+}
+
+#[test]
+fn signatures_from_an_already_solved_spectrum_equal_those_solved_afresh() {
+    let full = bumpy_sphere();
+    let v = full.vertices();
+    let faces: Vec<[u32; 3]> = full.faces().iter().filter(|f| f.iter().all(|&i| v[i as usize][2] > 0.03)).copied().collect();
+    let (part, _) = TriMesh::new_dropping_isolated(v.to_vec(), faces).unwrap();
+    let shape = Shape::new(part.clone());
+    let d_part = shot_descriptors(&part, DEFAULT_RADIUS_FRACTION, DEFAULT_MIN_NEIGHBORS).unwrap();
+    let metrics = [Metric::Regular, Metric::ScaleInvariant];
+    let fresh = partial_signatures(&shape, &d_part, &metrics).unwrap();
+    // The target's spectra (k = 12 > 5) reused, and one too short to reuse (k = 3: solved again).
+    let long: Vec<_> = metrics.iter().map(|&m| shape.dirichlet_spectrum(m, 12).unwrap()).collect();
+    let short = shape.dirichlet_spectrum(Metric::Regular, 3).unwrap();
+    let known = [(Metric::Regular, Some(&long[0])), (Metric::ScaleInvariant, Some(&long[1]))];
+    let reused = signatures_from_spectra(&shape, &d_part, &known).unwrap();
+    let fallback = signatures_from_spectra(&shape, &d_part, &[(Metric::Regular, Some(&short)), (Metric::ScaleInvariant, None)]).unwrap();
+    for (a, b) in fresh.iter().zip(&reused).chain(fresh.iter().zip(&fallback)) {
+        assert_eq!((a.nrows(), a.ncols()), (b.nrows(), b.ncols()));
+        let scale = (0..a.nrows()).flat_map(|i| (0..a.ncols()).map(move |j| (i, j))).map(|(i, j)| a[(i, j)].abs()).fold(0.0, f64::max);
+        for i in 0..a.nrows() {
+            for j in 0..a.ncols() {
+                // Squared eigenfunctions: the sign convention does not matter; eigensolver
+                // tolerance does (the eigenvalues here are simple).
+                assert!((a[(i, j)] - b[(i, j)]).abs() <= 1e-6 * scale, "({i},{j}): {} vs {}", a[(i, j)], b[(i, j)]);
+            }
+        }
+    }
 }

@@ -13,6 +13,7 @@ use crate::progress::Progress;
 use crate::region::energy::{area_matched_region, eigenvector_energy};
 use crate::selection::{self, CandidateScore};
 use crate::shape::{Metric, Shape};
+use crate::spectra::Spectrum;
 use faer::Mat;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
@@ -137,6 +138,9 @@ struct Target {
     shape: Shape,
     area: f64,
     terms: Vec<SpectrumTerm>,
+    /// The partial's Dirichlet spectrum of each term (its eigenfunctions also give the
+    /// descriptor projections of the selection).
+    spectra: Vec<Spectrum>,
     descriptors: Mat<f64>,
     warnings: Vec<String>,
 }
@@ -235,16 +239,18 @@ fn target(loc: &Localizer, partial: &TriMesh) -> Result<Target> {
         ));
     }
     let (k_regular, k_si) = options.mode.counts(options.k);
-    let mut terms = Vec::new();
+    let (mut terms, mut spectra) = (Vec::new(), Vec::new());
     for (metric, k) in [(Metric::Regular, k_regular), (Metric::ScaleInvariant, k_si)] {
         if k > 0 {
-            let values = shape.dirichlet_spectrum(metric, k)?.values;
+            let spectrum = shape.dirichlet_spectrum(metric, k)?;
+            let values = spectrum.values.clone();
             let height = 0.5 * STEP_HEIGHT_FACTOR * values[values.len() - 1];
             terms.push(SpectrumTerm { metric, target: values, height });
+            spectra.push(spectrum);
         }
     }
     let descriptors = shot::shot_descriptors(shape.mesh(), shot::DEFAULT_RADIUS_FRACTION, shot::DEFAULT_MIN_NEIGHBORS)?;
-    Ok(Target { shape, area, terms, descriptors, warnings })
+    Ok(Target { shape, area, terms, spectra, descriptors, warnings })
 }
 
 /// Stage 2: the starts. Given regions first, then per centre an area-matched ball, its
@@ -375,7 +381,8 @@ fn score(loc: &Localizer, target: &Target, candidates: Vec<(Run, CoarseMask, Ful
     let metrics: Vec<Metric> = target.terms.iter().map(|t| t.metric).collect();
     let heights: Vec<f64> = target.terms.iter().map(|t| 2.0 * t.height).collect();
     let target_values: Vec<Vec<f64>> = target.terms.iter().map(|t| t.target.clone()).collect();
-    let signatures = selection::partial_signatures(&target.shape, &target.descriptors, &metrics)?;
+    let known: Vec<(Metric, Option<&Spectrum>)> = target.terms.iter().zip(&target.spectra).map(|(t, s)| (t.metric, Some(s))).collect();
+    let signatures = selection::signatures_from_spectra(&target.shape, &target.descriptors, &known)?;
     let coarse_regions: Vec<Vec<bool>> = candidates.iter().map(|(_, c, _)| c.0.clone()).collect();
     let borrowed: Vec<&[bool]> = coarse_regions.iter().map(Vec::as_slice).collect();
     let fits = selection::partial_fits(&loc.coarse_descriptors, &target.descriptors, &borrowed)?;
