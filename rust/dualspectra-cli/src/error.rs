@@ -42,7 +42,7 @@ impl CliError {
     pub fn exit_code(&self) -> ExitCode {
         ExitCode::from(match self {
             CliError::Usage(_) | CliError::Core(Error::InvalidArgument(_)) => 2,
-            CliError::Core(Error::Io { .. } | Error::Parse { .. } | Error::InvalidMeshFile { .. }) => 3,
+            CliError::Core(Error::Io { .. } | Error::Parse { .. } | Error::InvalidMeshFile { .. } | Error::PreparedShape { .. }) => 3,
             CliError::Core(Error::Numerical(_)) => 4,
             CliError::Output { .. } => 5,
             CliError::Core(Error::Cancelled) => 130,

@@ -26,6 +26,10 @@ enum Command {
     Curvature(commands::curvature::Args),
     /// Find the region of FULL that PARTIAL (a deformed, cut copy) corresponds to.
     Localize(commands::localize::Args),
+    /// Rank full shapes for a partial: which one is it a part of, and where.
+    Search(commands::search::Args),
+    /// Prepare a full shape once and save it (.dsprep) for later searches.
+    Prepare(commands::prepare::Args),
     /// Run and score the localizer on a dataset in the SHREC'16 layout.
     Bench(commands::bench::Args),
     /// Dual ShapeDNA distances between shapes and their 2-D MDS embedding.
@@ -40,6 +44,8 @@ fn main() -> ExitCode {
         Command::Spectrum(args) => commands::spectrum::run(args),
         Command::Curvature(args) => commands::curvature::run(args),
         Command::Localize(args) => commands::localize::run(args),
+        Command::Search(args) => commands::search::run(args),
+        Command::Prepare(args) => commands::prepare::run(args),
         Command::Bench(args) => commands::bench::run(args),
         Command::Similarity(args) => commands::similarity::run(args),
         Command::Demo(args) => commands::demo::run(args),

@@ -44,6 +44,10 @@ pub enum Error {
     InvalidMesh(#[from] MeshError),
     #[error("invalid argument: {0}")]
     InvalidArgument(String),
+    /// A prepared-shape file (or bytes) that cannot be loaded: foreign, stale (another format
+    /// version), truncated or corrupted ([`crate::localizer::persist`]).
+    #[error("{}: {message}", path.display())]
+    PreparedShape { path: PathBuf, message: String },
     #[error("numerical failure: {0}")]
     Numerical(String),
     #[error("cancelled")]

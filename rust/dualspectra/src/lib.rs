@@ -10,10 +10,11 @@
 //! [`mesh`] -> [`geometry`] (curvature, metric, SHOT) -> [`operators`] (stiffness, mass,
 //! Dirichlet) -> [`spectra`] (eigensolvers) -> [`shape`] (a mesh with cached operators) ->
 //! [`alignment`] (cost, optimiser, starts) -> [`region`] -> [`selection`] -> [`localizer`]
-//! -> [`evaluation`].
+//! -> [`search`](mod@search) -> [`evaluation`].
 //!
-//! Entry points: [`Localizer`] (prepare a full shape once, locate many partials) and
-//! [`localize`] (one call).
+//! Entry points: [`Localizer`] (prepare a full shape once, locate many partials; save and
+//! load it), [`localize`] (one call) and [`search()`] (rank several prepared full shapes for
+//! a partial).
 
 pub mod error;
 pub mod progress;
@@ -26,12 +27,14 @@ pub mod alignment;
 pub mod region;
 pub mod selection;
 pub mod localizer;
+pub mod search;
 pub mod evaluation;
 
 pub use error::{Error, MeshError, Result};
 pub use localizer::{localize, localize_with_initial_regions, Candidate, Localization, Localizer, Mode, Options, Timings};
 pub use mesh::TriMesh;
 pub use progress::Progress;
+pub use search::{search, Match};
 
 /// The README's Rust example, compiled and run as a doc test.
 #[cfg(doctest)]

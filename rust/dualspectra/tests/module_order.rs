@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 /// The modules of `src/`, in pipeline order; `error` and `progress` serve every stage.
 const ORDER: &[&str] = &[
     "error", "progress", "mesh", "geometry", "operators", "spectra", "shape", "alignment", "region", "selection",
-    "localizer", "evaluation",
+    "localizer", "search", "evaluation",
 ];
 
 fn rank(module: &str) -> Option<usize> {

@@ -77,6 +77,11 @@ impl clap::Args for LocalizeOptions {
 }
 
 impl LocalizeOptions {
+    /// The names of the options given as flags.
+    pub fn given_names(&self) -> Vec<&'static str> {
+        self.given.iter().map(|(name, _)| *name).collect()
+    }
+
     /// The library options, checked (a bad value is a usage error naming the flag's option).
     pub fn to_options(&self) -> Result<Options, CliError> {
         self.to_options_from(Options::default())

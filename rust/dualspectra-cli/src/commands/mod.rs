@@ -6,4 +6,6 @@ pub mod spectrum;
 pub mod bench;
 pub mod demo;
 pub mod localize;
+pub mod prepare;
+pub mod search;
 pub mod similarity;

@@ -7,12 +7,16 @@
 //! and one symbolic Cholesky analysis shared by every eigensolver. [`Localizer::locate`]
 //! then runs the stages for one partial (`stages.rs`); a `Localizer` is `Send + Sync`, so
 //! several partials may be located concurrently. [`localize`] is the one-call form
-//! (geometry-central's `HeatMethodDistanceSolver` beside `heatMethodDistance`).
+//! (geometry-central's `HeatMethodDistanceSolver` beside `heatMethodDistance`). A prepared
+//! shape is saved and loaded with [`Localizer::save`] / [`Localizer::load`] (`persist.rs`:
+//! the versioned file format), so a library of full shapes is prepared once.
 
 pub mod options;
+pub mod persist;
 pub mod result;
 mod stages;
 
+pub use persist::HostNumbering;
 pub use options::{option_spec, options_schema_json, Mode, OptionKind, OptionSpec, Options, MIN_RESOLUTION, OPTIONS};
 pub use result::{Candidate, Localization, Timings};
 
@@ -50,7 +54,12 @@ pub struct Localizer {
     /// Heights of the optimisation vertices along each plane-cut direction.
     plane_heights: Vec<Vec<f64>>,
     workers: rayon::ThreadPool,
+    /// Notes shown with every result: the preparation's, and a loaded file's.
     warnings: Vec<String>,
+    /// The preparation's notes (what [`Localizer::save`] keeps).
+    prepared_warnings: Vec<String>,
+    /// The caller's numbering of the full mesh's vertices ([`Localizer::set_host_numbering`]).
+    host: Option<HostNumbering>,
     preparation_seconds: f64,
 }
 
@@ -133,9 +142,23 @@ impl Localizer {
         &self.warnings
     }
 
-    /// Seconds [`Localizer::new`] took.
+    /// Seconds [`Localizer::new`] took (for a loaded shape: [`Localizer::load`]).
     pub fn preparation_seconds(&self) -> f64 {
         self.preparation_seconds
+    }
+
+    /// Run on `threads` worker threads from now on (0: all cores), e.g. a shape prepared on
+    /// another machine (the thread count is not part of what was prepared).
+    pub fn set_threads(&mut self, threads: usize) -> Result<()> {
+        let mut options = self.options.clone();
+        options.threads = threads;
+        options.validate()?;
+        self.workers = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .map_err(|e| Error::Numerical(format!("thread pool: {e}")))?;
+        self.options = options;
+        Ok(())
     }
 }
 

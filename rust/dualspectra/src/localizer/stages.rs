@@ -110,7 +110,9 @@ pub(super) fn prepare(full: &TriMesh, options: &Options, progress: &Progress) ->
         centre_distances,
         plane_heights,
         workers: rayon::ThreadPoolBuilder::new().num_threads(1).build().map_err(|e| Error::Numerical(e.to_string()))?,
+        prepared_warnings: warnings.clone(),
         warnings,
+        host: None,
         preparation_seconds: 0.0,
     })
 }

@@ -1,0 +1,230 @@
+//! `dualspectra search PARTIAL FULL... [--top N] [--json OUT] [--ply-dir DIR] [localize options]`
+//!
+//! Which of the full shapes is PARTIAL a part of, and where: the partial is located on each
+//! (`dualspectra::search`) and the shapes are ranked by the similarity score
+//! (`dualspectra::search::similarity_score_of`, lower is more similar; docs/algorithm.md,
+//! "Searching several full shapes"). A FULL may be a mesh (.off, .obj, .ply: prepared
+//! here with the options given), a prepared shape (.dsprep from `dualspectra prepare`:
+//! loaded, with the options it was prepared with), or a folder of these (its files, not
+//! its subfolders, by name). Prints a table (rank, shape, score, region size, confidence)
+//! of the `--top N` best (default: all); `--json` writes them with each region (0-based
+//! vertex indices of that FULL file), `--ply-dir` each one's FULL with its region in red
+//! (`<rank>_<name>.ply`). A progress bar runs over the shapes on standard error.
+
+use super::localize::{progress_bar, region_indices, write_region_ply, LocalizeOptions};
+use super::prepare::prepare_file;
+use crate::error::CliError;
+use crate::input::read_input_mesh;
+use crate::output::{check_output_path, print_stdout, to_json_line, write_text};
+use dualspectra::localizer::persist::EXTENSION;
+use dualspectra::{Localizer, Match, Options, TriMesh};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// The partial shape (a deformed, cut copy of part of one of the FULL shapes).
+    #[arg(value_name = "PARTIAL")]
+    pub partial: PathBuf,
+    /// Full shapes: meshes (.off, .obj, .ply), prepared shapes (.dsprep), or folders of them.
+    #[arg(value_name = "FULL", num_args = 1.., required = true)]
+    pub fulls: Vec<PathBuf>,
+    /// Show, write and draw the N best shapes only (default: all).
+    #[arg(long, value_name = "N")]
+    pub top: Option<usize>,
+    /// Write the ranking as JSON, with each shape's region.
+    #[arg(long, value_name = "OUT")]
+    pub json: Option<PathBuf>,
+    /// Write each ranked FULL as PLY with its region in red, as DIR/<rank>_<name>.ply
+    /// (DIR is created).
+    #[arg(long, value_name = "DIR")]
+    pub ply_dir: Option<PathBuf>,
+    #[command(flatten)]
+    pub options: LocalizeOptions,
+    /// Drop vertices that belong to no face instead of failing.
+    #[arg(long)]
+    pub drop_isolated: bool,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// Mesh and prepared-shape extensions a folder is searched for.
+const EXTENSIONS: [&str; 4] = ["off", "obj", "ply", EXTENSION];
+
+fn has_extension(path: &Path, wanted: &str) -> bool {
+    path.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case(wanted))
+}
+
+/// The FULL arguments with each folder replaced by its mesh and prepared-shape files, sorted.
+pub fn expand_fulls(args: &[PathBuf]) -> Result<Vec<PathBuf>, CliError> {
+    let mut out = Vec::new();
+    for arg in args {
+        if arg.is_dir() {
+            let io = |source| CliError::Core(dualspectra::Error::Io { path: arg.clone(), source });
+            let mut files: Vec<PathBuf> = std::fs::read_dir(arg)
+                .map_err(io)?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.is_file() && EXTENSIONS.iter().any(|x| has_extension(p, x)))
+                .collect();
+            if files.is_empty() {
+                return Err(CliError::Usage(format!("{}: no .off, .obj, .ply or .{EXTENSION} file in this folder", arg.display())));
+            }
+            files.sort();
+            out.extend(files);
+        } else {
+            out.push(arg.clone());
+        }
+    }
+    Ok(out)
+}
+
+/// One full shape of the search: its file, the prepared shape, and the mesh to draw on.
+struct Full {
+    path: PathBuf,
+    name: String,
+    localizer: Localizer,
+    mesh: TriMesh,
+}
+
+/// Load a `.dsprep` or read and prepare a mesh file.
+fn open_full(path: &Path, options: &Options, threads: Option<usize>, args: &Args) -> Result<Full, CliError> {
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    if has_extension(path, EXTENSION) {
+        let mut localizer = Localizer::load(path)?;
+        if let Some(t) = threads {
+            localizer.set_threads(t)?;
+        }
+        let mesh = localizer.full_mesh();
+        return Ok(Full { path: path.to_path_buf(), name, localizer, mesh });
+    }
+    let (bar, progress) = progress_bar(args.quiet, &format!("prepare {name}"));
+    let prepared = prepare_file(path, options, args.drop_isolated, &progress);
+    bar.finish_and_clear();
+    let (localizer, mesh) = prepared?;
+    Ok(Full { path: path.to_path_buf(), name, localizer, mesh })
+}
+
+/// One ranked shape in the JSON.
+#[derive(Debug, Serialize)]
+struct Ranked<'a> {
+    rank: usize,
+    shape: &'a Path,
+    /// Lower is more similar; null when the partial could not be located on it.
+    score: Option<f64>,
+    /// Vertices of the region and of the shape, in the file's numbering.
+    region_vertices: usize,
+    n_vertices: usize,
+    confidence: Option<f64>,
+    cost: Option<f64>,
+    /// The region: 0-based vertex indices of the shape's file.
+    region: Vec<usize>,
+    error: Option<&'a str>,
+    warnings: &'a [String],
+}
+
+#[derive(Debug, Serialize)]
+struct Output<'a> {
+    partial: &'a Path,
+    /// Every shape searched, in the order given (`shapes[i]` is `index` i).
+    shapes: Vec<&'a Path>,
+    seconds: f64,
+    ranking: Vec<Ranked<'a>>,
+}
+
+/// The region of a match in the file's numbering of its shape, and that shape's vertex count.
+fn file_region(full: &Full, region: &[bool]) -> (Vec<usize>, usize) {
+    match full.localizer.host_numbering() {
+        Some(h) => (region_indices(&h.region_to_host(region)), h.n_host_vertices),
+        None => (region_indices(region), region.len()),
+    }
+}
+
+pub fn run(args: Args) -> Result<(), CliError> {
+    let options = args.options.to_options()?;
+    let threads = args.options.given_names().contains(&"threads").then_some(options.threads);
+    let paths = expand_fulls(&args.fulls)?;
+    let mut inputs: Vec<&Path> = paths.iter().map(PathBuf::as_path).collect();
+    inputs.push(&args.partial);
+    if let Some(out) = &args.json {
+        check_output_path(out, &inputs)?;
+    }
+    if let Some(dir) = &args.ply_dir {
+        std::fs::create_dir_all(dir).map_err(|source| CliError::Output { path: dir.clone(), source })?;
+    }
+    if paths.iter().any(|p| has_extension(p, EXTENSION)) && args.options.given_names().iter().any(|&n| n != "threads") {
+        eprintln!("warning: prepared shapes (.{EXTENSION}) keep the options they were prepared with; the options given apply to the meshes only");
+    }
+    let (partial, _) = read_input_mesh(&args.partial, args.drop_isolated)?;
+    let t = Instant::now();
+    let fulls = paths.iter().map(|p| open_full(p, &options, threads, &args)).collect::<Result<Vec<_>, _>>()?;
+    let same = |o: &Options| Options { threads: 0, ..o.clone() };
+    if let Some(f) = fulls.iter().find(|f| same(f.localizer.options()) != same(fulls[0].localizer.options())) {
+        eprintln!(
+            "warning: {} and {} were prepared with different options; scores compare best under the same options",
+            fulls[0].name, f.name
+        );
+    }
+    let shapes: Vec<&Localizer> = fulls.iter().map(|f| &f.localizer).collect();
+    let (bar, progress) = progress_bar(args.quiet, "search");
+    let found = dualspectra::search(&partial, &shapes, args.top.unwrap_or(usize::MAX), &progress);
+    bar.finish_and_clear();
+    let found: Vec<Match> = found?;
+    let seconds = t.elapsed().as_secs_f64();
+    let mut ranking = Vec::new();
+    for (i, m) in found.iter().enumerate() {
+        let full = &fulls[m.index];
+        let loc = m.localization.as_ref();
+        let (region, n_vertices) = match loc {
+            Some(l) => file_region(full, &l.region),
+            None => (Vec::new(), full.localizer.host_numbering().map_or(full.localizer.n_vertices(), |h| h.n_host_vertices)),
+        };
+        ranking.push(Ranked {
+            rank: i + 1,
+            shape: &full.path,
+            score: m.score.is_finite().then_some(m.score),
+            region_vertices: region.len(),
+            n_vertices,
+            confidence: loc.map(|l| l.confidence),
+            cost: loc.map(|l| l.cost),
+            region,
+            error: m.error.as_deref(),
+            warnings: loc.map_or(&[], |l| l.warnings.as_slice()),
+        });
+    }
+    if let Some(dir) = &args.ply_dir {
+        for (r, m) in ranking.iter().zip(&found) {
+            if let Some(loc) = &m.localization {
+                let full = &fulls[m.index];
+                let stem = Path::new(&full.name).file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+                let path = dir.join(format!("{}_{stem}.ply", r.rank));
+                write_region_ply(&path, &full.mesh, &loc.region)?;
+            }
+        }
+    }
+    let name_width = ranking.iter().map(|r| fulls[found[r.rank - 1].index].name.len()).max().unwrap_or(5).max(5);
+    let mut table = format!("{:>4}  {:<name_width$}  {:>10}  {:>16}  {:>10}\n", "rank", "shape", "score", "region", "confidence");
+    for (r, m) in ranking.iter().zip(&found) {
+        let name = &fulls[m.index].name;
+        match (r.score, r.confidence) {
+            (Some(score), Some(confidence)) => table.push_str(&format!(
+                "{:>4}  {name:<name_width$}  {score:>10.4e}  {:>16}  {confidence:>10.2}\n",
+                r.rank,
+                format!("{}/{}", r.region_vertices, r.n_vertices)
+            )),
+            _ => table.push_str(&format!("{:>4}  {name:<name_width$}  failed: {}\n", r.rank, r.error.unwrap_or("no region"))),
+        }
+    }
+    for (r, m) in ranking.iter().zip(&found) {
+        for w in r.warnings {
+            eprintln!("warning: {}: {w}", fulls[m.index].name);
+        }
+    }
+    let out = Output { partial: &args.partial, shapes: paths.iter().map(PathBuf::as_path).collect(), seconds, ranking };
+    if let Some(path) = &args.json {
+        write_text(path, &to_json_line(&out)?)?;
+    }
+    table.push_str(&format!("{} shapes searched in {seconds:.2} s\n", paths.len()));
+    print_stdout(&table)
+}

@@ -1,0 +1,196 @@
+//! End-to-end checks of `search` and `prepare` through the binary, on a generated library
+//! (no data files): the figure a partial was cut from and two other models. The partial's
+//! model ranks first, prepared shapes (.dsprep) rank and score as the meshes they were
+//! prepared from, and a stale or foreign .dsprep is a one-line error naming it.
+
+use dualspectra::evaluation::synthetic::{figure, synthetic_pair, Limb, SyntheticParams};
+use dualspectra::mesh::io::write_off;
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::sync::OnceLock;
+
+const LIGHT: [&str; 8] = ["--k", "6", "--centers", "2", "--iterations", "10", "--threads", "2"];
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_dualspectra"))
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("dualspectra_cli_search_{}_{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn run(cmd: &mut Command) -> Output {
+    let out = cmd.output().expect("run dualspectra");
+    assert!(
+        out.status.success(),
+        "{:?} failed: {}\n{}",
+        cmd,
+        String::from_utf8_lossy(&out.stderr),
+        String::from_utf8_lossy(&out.stdout)
+    );
+    out
+}
+
+fn read_json(path: &Path) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// `partial.off` and `library/` (figure.off, horned.off, quadruped.off), written once.
+fn library() -> &'static Path {
+    static DIR: OnceLock<PathBuf> = OnceLock::new();
+    DIR.get_or_init(|| {
+        let d = tmp("library");
+        let pair = synthetic_pair(&SyntheticParams { level: 3, ..SyntheticParams::default() }).unwrap();
+        let limb = |v: [f64; 3], height: f64, width: f64| {
+            let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+            Limb { direction: v.map(|c| c / n), height, width }
+        };
+        let quadruped = [
+            limb([1.0, 0.0, 0.3], 0.6, 0.35),
+            limb([0.5, 0.5, -1.0], 0.9, 0.2),
+            limb([0.5, -0.5, -1.0], 0.9, 0.2),
+            limb([-0.5, 0.5, -1.0], 0.9, 0.2),
+            limb([-0.5, -0.5, -1.0], 0.9, 0.2),
+            limb([-1.0, 0.0, 0.4], 1.4, 0.12),
+        ];
+        let horned = [limb([0.0, 0.0, 1.0], 2.0, 0.15), limb([0.0, 0.0, -1.0], 0.4, 0.6)];
+        std::fs::create_dir_all(d.join("library")).unwrap();
+        write_off(&d.join("partial.off"), &pair.partial).unwrap();
+        write_off(&d.join("library/figure.off"), &pair.full).unwrap();
+        write_off(&d.join("library/quadruped.off"), &figure(3, &quadruped).unwrap()).unwrap();
+        write_off(&d.join("library/horned.off"), &figure(3, &horned).unwrap()).unwrap();
+        // Not a mesh: a folder's other files are left out.
+        std::fs::write(d.join("library/notes.txt"), "not a mesh").unwrap();
+        d
+    })
+}
+
+/// `search partial.off library/` with JSON and PLY output, run once: (stdout, JSON, PLY dir).
+fn searched() -> &'static (String, Value, PathBuf) {
+    static OUT: OnceLock<(String, Value, PathBuf)> = OnceLock::new();
+    OUT.get_or_init(|| {
+        let d = library();
+        let out_dir = tmp("search");
+        let json = out_dir.join("ranking.json");
+        let out = run(bin()
+            .args(["search", "--quiet"])
+            .arg(d.join("partial.off"))
+            .arg(d.join("library"))
+            .args(LIGHT)
+            .arg("--json")
+            .arg(&json)
+            .arg("--ply-dir")
+            .arg(out_dir.join("regions")));
+        (String::from_utf8_lossy(&out.stdout).into_owned(), read_json(&json), out_dir.join("regions"))
+    })
+}
+
+fn names(ranking: &Value) -> Vec<String> {
+    ranking["ranking"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| Path::new(r["shape"].as_str().unwrap()).file_name().unwrap().to_string_lossy().into_owned())
+        .collect()
+}
+
+#[test]
+fn search_ranks_the_model_the_partial_was_cut_from_first() {
+    let (stdout, v, plys) = searched();
+    assert_eq!(names(v)[0], "figure.off", "{stdout}");
+    // The table: a header, one row per shape best first, a closing line.
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert!(lines[0].contains("rank") && lines[0].contains("score") && lines[0].contains("region") && lines[0].contains("confidence"), "{stdout}");
+    assert!(lines[1].trim_start().starts_with("1  figure.off"), "{stdout}");
+    assert_eq!(lines.len(), 5, "{stdout}");
+    assert!(lines[4].starts_with("3 shapes searched in"), "{stdout}");
+    // The JSON: every shape searched (the folder's meshes by name), the ranking with scores
+    // ascending, and each region as sorted vertex indices of its file.
+    let shapes: Vec<&str> = v["shapes"].as_array().unwrap().iter().map(|s| s.as_str().unwrap()).collect();
+    assert_eq!(shapes.len(), 3);
+    assert!(shapes[0].ends_with("figure.off") && shapes[2].ends_with("quadruped.off"), "{shapes:?}");
+    let ranking = v["ranking"].as_array().unwrap();
+    let scores: Vec<f64> = ranking.iter().map(|r| r["score"].as_f64().expect("a score")).collect();
+    assert!(scores.windows(2).all(|w| w[0] <= w[1]), "{scores:?}");
+    for (i, r) in ranking.iter().enumerate() {
+        assert_eq!(r["rank"], i + 1);
+        let region: Vec<u64> = r["region"].as_array().unwrap().iter().map(|x| x.as_u64().unwrap()).collect();
+        let n = r["n_vertices"].as_u64().unwrap();
+        assert_eq!(r["region_vertices"].as_u64().unwrap() as usize, region.len());
+        assert!(!region.is_empty() && region.windows(2).all(|w| w[0] < w[1]) && *region.last().unwrap() < n);
+        let confidence = r["confidence"].as_f64().unwrap();
+        assert!((0.0..=1.0).contains(&confidence));
+        assert!(r["error"].is_null());
+    }
+    // A PLY per ranked shape, named by rank.
+    for (i, name) in names(v).iter().enumerate() {
+        let stem = name.trim_end_matches(".off");
+        let ply = std::fs::read(plys.join(format!("{}_{stem}.ply", i + 1))).unwrap();
+        assert!(ply.starts_with(b"ply"));
+    }
+}
+
+#[test]
+fn prepared_shapes_rank_and_score_as_their_meshes() {
+    let d = library();
+    let prep = tmp("prepared");
+    for name in ["figure", "horned", "quadruped"] {
+        let out = run(bin()
+            .args(["prepare", "--quiet"])
+            .arg(d.join(format!("library/{name}.off")))
+            .arg("-o")
+            .arg(prep.join(format!("{name}.dsprep")))
+            .args(LIGHT));
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(text.starts_with("prepared ") && text.contains(&format!("{name}.dsprep")), "{text}");
+    }
+    let json = prep.join("ranking.json");
+    run(bin().args(["search", "--quiet"]).arg(d.join("partial.off")).arg(&prep).arg("--top").arg("2").arg("--json").arg(&json));
+    let v = read_json(&json);
+    let (_, fresh, _) = searched();
+    let stems = |v: &Value| names(v).iter().map(|n| n.split('.').next().unwrap().to_string()).collect::<Vec<_>>();
+    assert_eq!(stems(&v), stems(fresh)[..2], "--top 2 keeps the two best");
+    for (a, b) in v["ranking"].as_array().unwrap().iter().zip(fresh["ranking"].as_array().unwrap()) {
+        assert_eq!(a["score"], b["score"], "bit-identical scores from a prepared shape");
+        assert_eq!(a["region"], b["region"]);
+    }
+    // A default output name beside the mesh.
+    let copy = prep.join("copy.off");
+    std::fs::copy(d.join("library/horned.off"), &copy).unwrap();
+    run(bin().args(["prepare", "--quiet"]).arg(&copy).args(LIGHT));
+    assert!(prep.join("copy.dsprep").is_file());
+}
+
+/// `search` on `file`: it must fail with exit code 3 and one line naming the file; the line.
+fn search_error(file: &Path) -> String {
+    let out = bin().args(["search", "--quiet"]).arg(library().join("partial.off")).arg(file).output().unwrap();
+    assert_eq!(out.status.code(), Some(3), "{}", String::from_utf8_lossy(&out.stderr));
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.starts_with("error: ") && err.contains(&file.display().to_string()), "{err}");
+    err
+}
+
+#[test]
+fn a_stale_or_foreign_prepared_file_is_a_clear_error() {
+    let d = tmp("stale");
+    let good = d.join("good.dsprep");
+    run(bin().args(["prepare", "--quiet"]).arg(library().join("library/horned.off")).arg("-o").arg(&good).args(LIGHT));
+    let mut bytes = std::fs::read(&good).unwrap();
+    let version = u32::from_le_bytes(bytes[8..12].try_into().unwrap());
+    bytes[8..12].copy_from_slice(&(version + 1).to_le_bytes());
+    let stale = d.join("stale.dsprep");
+    std::fs::write(&stale, &bytes).unwrap();
+    let err = search_error(&stale);
+    assert!(err.contains("stale prepared shape") && err.contains("prepare the shape again"), "{err}");
+    let foreign = d.join("mesh.dsprep");
+    std::fs::copy(library().join("partial.off"), &foreign).unwrap();
+    assert!(search_error(&foreign).contains("not a dualspectra prepared shape"));
+    let truncated = d.join("cut.dsprep");
+    std::fs::write(&truncated, &std::fs::read(&good).unwrap()[..1000]).unwrap();
+    assert!(search_error(&truncated).contains("truncated"));
+}

@@ -1,0 +1,108 @@
+//! Laws of the search over several full shapes (`search.rs`) on a small generated library:
+//! the model the partial was cut from ranks first, ties go to the lower index, a shape the
+//! partial cannot be on ranks last, and the search can be cancelled.
+
+use dualspectra::evaluation::synthetic::{figure, synthetic_pair, Limb, SyntheticPair, SyntheticParams};
+use dualspectra::search::similarity_score_of;
+use dualspectra::{search, Error, Localizer, Options, Progress, TriMesh};
+use std::sync::OnceLock;
+
+fn light() -> Options {
+    Options { k: 6, centers: 2, max_iterations: 10, threads: 2, ..Options::default() }
+}
+
+fn pair() -> &'static SyntheticPair {
+    static PAIR: OnceLock<SyntheticPair> = OnceLock::new();
+    PAIR.get_or_init(|| synthetic_pair(&SyntheticParams { level: 3, ..SyntheticParams::default() }).unwrap())
+}
+
+/// Other models: a four-legged figure with a tail, and a figure with one long horn.
+fn others() -> Vec<TriMesh> {
+    let limb = |d: [f64; 3], height: f64, width: f64| {
+        let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        Limb { direction: d.map(|c| c / n), height, width }
+    };
+    let quadruped = vec![
+        limb([1.0, 0.0, 0.3], 0.6, 0.35),
+        limb([0.5, 0.5, -1.0], 0.9, 0.2),
+        limb([0.5, -0.5, -1.0], 0.9, 0.2),
+        limb([-0.5, 0.5, -1.0], 0.9, 0.2),
+        limb([-0.5, -0.5, -1.0], 0.9, 0.2),
+        limb([-1.0, 0.0, 0.4], 1.4, 0.12),
+    ];
+    let horned = vec![limb([0.0, 0.0, 1.0], 2.0, 0.15), limb([0.0, 0.0, -1.0], 0.4, 0.6)];
+    vec![figure(3, &quadruped).unwrap(), figure(3, &horned).unwrap()]
+}
+
+fn library() -> &'static Vec<Localizer> {
+    static LIBRARY: OnceLock<Vec<Localizer>> = OnceLock::new();
+    LIBRARY.get_or_init(|| {
+        let [a, b] = <[TriMesh; 2]>::try_from(others()).unwrap();
+        [a, pair().full.clone(), b].iter().map(|m| Localizer::new(m, &light()).unwrap()).collect()
+    })
+}
+
+#[test]
+fn the_model_the_partial_was_cut_from_ranks_first() {
+    let shapes: Vec<&Localizer> = library().iter().collect();
+    let found = search(&pair().partial, &shapes, 10, &Progress::none()).unwrap();
+    let order: Vec<(usize, f64)> = found.iter().map(|m| (m.index, m.score)).collect();
+    assert_eq!(found.len(), 3);
+    assert_eq!(found[0].index, 1, "ranking {order:?}");
+    assert!(found.windows(2).all(|w| w[0].score <= w[1].score), "{order:?}");
+    for m in &found {
+        let loc = m.localization.as_ref().expect("every shape located");
+        assert_eq!(m.score, similarity_score_of(loc));
+        // The score is the chosen region's partial fit: unit-norm descriptors, in [0, sqrt 2].
+        assert_eq!(Some(m.score), loc.candidates[loc.selected_start].scores.partial_fit);
+        assert!(m.score.is_finite() && (0.0..=2f64.sqrt()).contains(&m.score));
+        assert_eq!(loc.region.len(), shapes[m.index].n_vertices());
+    }
+    // Unknown (no region, no candidate): ranks last.
+    let mut unknown = found[0].localization.clone().unwrap();
+    let chosen = unknown.selected_start;
+    unknown.candidates[chosen].scores.partial_fit = None;
+    assert_eq!(similarity_score_of(&unknown), f64::INFINITY);
+    unknown.candidates.clear();
+    assert_eq!(similarity_score_of(&unknown), f64::INFINITY);
+    // Progress runs over the shapes, from 0 to 1.
+    let seen = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
+    let log = seen.clone();
+    let progress = Progress::new(move |f, _| {
+        log.lock().unwrap().push(f);
+        true
+    });
+    search(&pair().partial, &shapes[..1], 1, &progress).unwrap();
+    let seen = seen.lock().unwrap();
+    assert!(seen.windows(2).all(|w| w[0] <= w[1] + 1e-12) && seen.last() == Some(&1.0), "{seen:?}");
+}
+
+#[test]
+fn ties_go_to_the_lower_index_and_top_keeps_the_best() {
+    let one = &library()[1];
+    let found = search(&pair().partial, &[one, one], 2, &Progress::none()).unwrap();
+    assert_eq!(found.iter().map(|m| m.index).collect::<Vec<_>>(), [0, 1]);
+    assert_eq!(found[0].score.to_bits(), found[1].score.to_bits(), "the same shape twice, the same score");
+    let best = search(&pair().partial, &[one, one], 1, &Progress::none()).unwrap();
+    assert_eq!(best.len(), 1);
+    assert_eq!(best[0].index, 0);
+    assert!(search(&pair().partial, &[], 3, &Progress::none()).unwrap().is_empty());
+}
+
+#[test]
+fn a_shape_the_partial_cannot_be_on_ranks_last_and_cancelling_stops() {
+    // The figure at a tenth of its size: the partial has far more area than it.
+    let small = pair().full.map_positions(|p| p.map(|c| 0.1 * c)).unwrap();
+    let small = Localizer::new(&small, &light()).unwrap();
+    let right = &library()[1];
+    let found = search(&pair().partial, &[&small, right], 5, &Progress::none()).unwrap();
+    assert_eq!(found.iter().map(|m| m.index).collect::<Vec<_>>(), [1, 0]);
+    assert_eq!(found[1].score, f64::INFINITY);
+    assert!(found[1].localization.is_none());
+    assert!(found[1].error.as_deref().unwrap_or("").contains("cannot be a part of it"), "{:?}", found[1].error);
+    // When no shape can take the partial, the first shape's error is returned.
+    let err = search(&pair().partial, &[&small], 5, &Progress::none()).unwrap_err();
+    assert!(err.to_string().contains("cannot be a part of it"), "{err}");
+    let stop = Progress::new(|_, _| false);
+    assert!(matches!(search(&pair().partial, &[right], 1, &stop), Err(Error::Cancelled)));
+}
