@@ -1,7 +1,9 @@
-"""dualspectra for Blender: find the region of a mesh that a partial mesh is.
+"""dualspectra for Blender: find the region of a mesh that a partial mesh is, and which of
+several meshes a partial mesh is part of.
 
 Partial shape localization by multi-metric Hamiltonian spectra matching (the
-``dualspectra`` library). 3D View > Sidebar > DualSpectra. Works as a legacy add-on
+``dualspectra`` library). 3D View > Sidebar > DualSpectra: *Localize Partial Shape* and
+*Search Selected Objects* (``operators.py``). Works as a legacy add-on
 (Blender 3.4+, the ``dualspectra`` package unzipped beside this file) and as an
 extension (Blender 4.2+, ``blender_manifest.toml`` with the wheel under ``wheels/``).
 
@@ -55,7 +57,12 @@ def register():
     global classes, _warning_filter
     options_schema = library.options_schema()
     settings = panel.settings_class(options_schema)
-    classes = (operators.operator_class(options_schema), settings, panel.VIEW3D_PT_dualspectra)
+    classes = (
+        operators.operator_class(options_schema),
+        operators.operator_class(options_schema, base=operators.SearchOperator),
+        settings,
+        panel.VIEW3D_PT_dualspectra,
+    )
     for cls in classes:
         bpy.utils.register_class(cls)
     bpy.types.Scene.dualspectra = bpy.props.PointerProperty(type=settings)

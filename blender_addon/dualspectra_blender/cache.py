@@ -63,5 +63,6 @@ class LocalizerCache:
         return len(self._entries)
 
 
-#: The add-on's cache (cleared when a file is loaded and when the add-on is disabled).
-CACHE = LocalizerCache()
+#: The add-on's cache (cleared when a file is loaded and when the add-on is disabled); room
+#: for the candidates of a search over several objects.
+CACHE = LocalizerCache(capacity=8)

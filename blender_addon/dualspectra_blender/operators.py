@@ -1,25 +1,34 @@
-"""The Localize operator: read two Blender meshes, run dualspectra, write the region.
+"""The operators: read Blender meshes, run dualspectra, write the region.
+
+*Localize* (``dualspectra.localize``): the active object is the full shape, the partial is
+another mesh; the region is selected on the active object. *Search*
+(``dualspectra.search``): the active object is the partial shape and the other selected
+meshes are the candidate full shapes; they are ranked by the library's similarity score
+(``dualspectra.search``: lower is more similar), the ranking is reported and kept on each
+candidate as the custom properties ``dualspectra_rank`` and ``dualspectra_similarity``, and
+the region is selected on the best one.
 
 Read, check, write (glTF-Blender-IO's operator habit):
 
-* read: both objects' evaluated meshes (modifiers applied), triangulated with
+* read: the objects' evaluated meshes (modifiers applied), triangulated with
   ``loop_triangles``, in world space (``matrix_world @ co``), via ``mesh_data``; the arrays
   go to the library as they are (its intake leaves out degenerate triangles and loose
   vertices, splits non-manifold edges and vertices, maps every result back to these
   vertices and says what it left out or split: reported as warnings);
 * check: errors become ``self.report({'ERROR'}, ...)`` and ``{'CANCELLED'}``;
 * write: the region's vertices, and the edges and faces between them, are selected on
-  the active object; the soft score is stored as the point attribute
+  the full object; the soft score is stored as the point attribute
   ``dualspectra_score``, the region as ``dualspectra_region`` and a colour ramp of the
   score as the colour attribute ``dualspectra_color``. One undo step.
 
-The library's options (``dualspectra.options_schema()``) become the operator's properties
+The library's options (``dualspectra.options_schema()``) become the operators' properties
 when the add-on registers (:func:`operator_class`): labels, defaults, ranges and tooltips
 are the library's. The prepared full shape (``dualspectra.Localizer``) is kept per full
 object while its world-space mesh and the options are unchanged (``cache.py``), so
-locating several parts on one model prepares it once.
+locating several parts on one model, or searching one set of objects for several parts,
+prepares each once.
 
-``invoke`` (a click in the interface) runs the localizer on a worker thread and polls it
+``invoke`` (a click in the interface) runs the job on a worker thread and polls it
 from a modal timer: progress in the status bar and the window manager's progress
 cursor, Esc cancels. ``execute`` (scripts, ``blender -b``, the redo panel) runs it in
 the foreground: there is no event loop for modal timers without a window.
@@ -31,7 +40,7 @@ from bpy.app.handlers import persistent
 from bpy.props import BoolProperty, FloatProperty, StringProperty
 
 from . import cache, library, mesh_data, schema
-from .job import LocalizeJob
+from .job import LocalizeJob, SearchJob
 
 SCORE_ATTRIBUTE = "dualspectra_score"
 REGION_ATTRIBUTE = "dualspectra_region"
@@ -175,56 +184,33 @@ def write_result(mesh, region, score):
     mesh.update()
 
 
-# -- the operator ----------------------------------------------------------------------------------
+def write_region_on(ob, region, score, original_to_evaluated):
+    """Write a result (indexed by the read vertices) on object ``ob``: mapped back to its
+    original vertices if a modifier changed them, outside edit mode (entered again after).
+    Returns the region as written."""
+    region = np.asarray(region, dtype=bool)
+    score = np.asarray(score, dtype=np.float64)
+    if original_to_evaluated is not None:
+        region = region[original_to_evaluated]
+        score = score[original_to_evaluated]
+    in_edit_mode = ob.mode == 'EDIT'
+    if in_edit_mode:
+        bpy.ops.object.mode_set(mode='OBJECT')
+    write_result(ob.data, region, score)
+    if in_edit_mode:
+        bpy.ops.object.mode_set(mode='EDIT')
+    return region
 
-class LocalizeOperator:
-    """Find the region of the active mesh that the partial mesh is, and select it"""
 
-    bl_idname = "dualspectra.localize"
-    bl_label = "Localize Partial Shape"
-    bl_options = {'REGISTER', 'UNDO'}
+# -- the operators ---------------------------------------------------------------------------------
+
+class JobOperator:
+    """What both operators share: a job (``job.py``) run in the foreground (``execute``) or on
+    a worker thread polled by a modal timer (``invoke``). Subclasses read and check in
+    ``_prepare`` (returning the job, not started) and write in ``_finish``."""
 
     #: The library's options table this class was built from (set by :func:`operator_class`).
     options_schema = ()
-
-    @classmethod
-    def poll(cls, context):
-        ob = context.active_object
-        if ob is None or ob.type != 'MESH':
-            if hasattr(cls, "poll_message_set"):
-                cls.poll_message_set("The active object must be a mesh (the full shape)")
-            return False
-        return True
-
-    def draw(self, context):
-        layout = self.layout
-        layout.prop_search(self, "partial_object", bpy.data, "objects")
-        for spec in self.options_schema:
-            layout.prop(self, spec["name"])
-        layout.prop(self, "time_limit")
-        layout.prop(self, "use_modifiers")
-
-    # read and check; returns the job (not started) or raises UserError / ImportError
-    def _prepare(self, context, on_progress):
-        module = library.load()
-        full = context.active_object
-        partial = resolve_partial(context, self.partial_object)
-        self.partial_object = partial.name  # the redo panel repeats the same pair
-        full_v, full_f, original_to_evaluated = read_object(context, full, self.use_modifiers)
-        part_v, part_f, _ = read_object(context, partial, self.use_modifiers)
-        options = schema.option_values(self, self.options_schema)
-        self._full_name = full.name
-        self._partial_name = partial.name
-        self._n_original = len(full.data.vertices)
-        self._original_to_evaluated = original_to_evaluated
-        self._cache_key = cache_key(full)
-        self._fingerprint = cache.fingerprint(full_v, full_f, options)
-        return LocalizeJob(
-            module, full_v, full_f, part_v, part_f, options,
-            localizer=cache.CACHE.get(self._cache_key, self._fingerprint),
-            on_progress=on_progress,
-            time_limit=self.time_limit,
-        )
 
     def _start(self, context, on_progress=None):
         try:
@@ -233,45 +219,15 @@ class LocalizeOperator:
             self.report({'ERROR'}, str(exc))
             return None
 
-    def _finish(self, context, job):
-        if job.localizer is not None and not job.reused:
-            cache.CACHE.put(self._cache_key, self._fingerprint, job.localizer)
+    def _stopped(self, job, what):
+        """Report a run that did not finish (``{'CANCELLED'}``), or ``None`` if it did."""
         if job.timed_out:
-            self.report({'ERROR'}, f"Localization stopped: time limit of {self.time_limit:g} s exceeded")
+            self.report({'ERROR'}, f"{what} stopped: time limit of {self.time_limit:g} s exceeded")
             return {'CANCELLED'}
         if job.cancelled:
-            self.report({'WARNING'}, "Localization cancelled")
+            self.report({'WARNING'}, f"{what} cancelled")
             return {'CANCELLED'}
-        if job.error is not None:
-            exc = job.error
-            name = self._full_name if job.phase == "full" else self._partial_name
-            self.report({'ERROR'}, f"Localization failed on '{name}': {type(exc).__name__}: {exc}")
-            return {'CANCELLED'}
-        result = job.result
-        full = bpy.data.objects.get(self._full_name)
-        if full is None or full.type != 'MESH' or len(full.data.vertices) != self._n_original:
-            self.report({'ERROR'}, f"'{self._full_name}' was deleted or edited during the localization; nothing written")
-            return {'CANCELLED'}
-        region = np.asarray(result.region, dtype=bool)
-        score = np.asarray(result.score, dtype=np.float64)
-        if self._original_to_evaluated is not None:
-            region = region[self._original_to_evaluated]
-            score = score[self._original_to_evaluated]
-        in_edit_mode = full.mode == 'EDIT'
-        if in_edit_mode:
-            bpy.ops.object.mode_set(mode='OBJECT')
-        write_result(full.data, region, score)
-        if in_edit_mode:
-            bpy.ops.object.mode_set(mode='EDIT')
-        for warning in result.warnings:
-            self.report({'WARNING'}, warning)
-        prepared = "prepared shape reused" if job.reused else f"shape prepared in {job.localizer.preparation_seconds:.2f} s"
-        self.report(
-            {'INFO'},
-            f"Selected {int(region.sum())} of {len(region)} vertices of '{full.name}' "
-            f"(confidence {float(result.confidence):.2f}, cost {float(result.cost):.3g}, {job.elapsed:.1f} s, {prepared})",
-        )
-        return {'FINISHED'}
+        return None
 
     # foreground: scripts, headless runs, the redo panel
     def execute(self, context):
@@ -335,9 +291,190 @@ class LocalizeOperator:
         self._cleanup(context)
 
 
-def own_properties():
-    """The operator's properties that are not library options."""
-    return {
+class LocalizeOperator(JobOperator):
+    """Find the region of the active mesh that the partial mesh is, and select it"""
+
+    bl_idname = "dualspectra.localize"
+    bl_label = "Localize Partial Shape"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    @classmethod
+    def poll(cls, context):
+        ob = context.active_object
+        if ob is None or ob.type != 'MESH':
+            if hasattr(cls, "poll_message_set"):
+                cls.poll_message_set("The active object must be a mesh (the full shape)")
+            return False
+        return True
+
+    def draw(self, context):
+        layout = self.layout
+        layout.prop_search(self, "partial_object", bpy.data, "objects")
+        for spec in self.options_schema:
+            layout.prop(self, spec["name"])
+        layout.prop(self, "time_limit")
+        layout.prop(self, "use_modifiers")
+
+    # read and check; returns the job (not started) or raises UserError / ImportError
+    def _prepare(self, context, on_progress):
+        module = library.load()
+        full = context.active_object
+        partial = resolve_partial(context, self.partial_object)
+        self.partial_object = partial.name  # the redo panel repeats the same pair
+        full_v, full_f, original_to_evaluated = read_object(context, full, self.use_modifiers)
+        part_v, part_f, _ = read_object(context, partial, self.use_modifiers)
+        options = schema.option_values(self, self.options_schema)
+        self._full_name = full.name
+        self._partial_name = partial.name
+        self._n_original = len(full.data.vertices)
+        self._original_to_evaluated = original_to_evaluated
+        self._cache_key = cache_key(full)
+        self._fingerprint = cache.fingerprint(full_v, full_f, options)
+        return LocalizeJob(
+            module, full_v, full_f, part_v, part_f, options,
+            localizer=cache.CACHE.get(self._cache_key, self._fingerprint),
+            on_progress=on_progress,
+            time_limit=self.time_limit,
+        )
+
+    def _finish(self, context, job):
+        if job.localizer is not None and not job.reused:
+            cache.CACHE.put(self._cache_key, self._fingerprint, job.localizer)
+        stopped = self._stopped(job, "Localization")
+        if stopped:
+            return stopped
+        if job.error is not None:
+            exc = job.error
+            name = self._full_name if job.phase == "full" else self._partial_name
+            self.report({'ERROR'}, f"Localization failed on '{name}': {type(exc).__name__}: {exc}")
+            return {'CANCELLED'}
+        result = job.result
+        full = bpy.data.objects.get(self._full_name)
+        if full is None or full.type != 'MESH' or len(full.data.vertices) != self._n_original:
+            self.report({'ERROR'}, f"'{self._full_name}' was deleted or edited during the localization; nothing written")
+            return {'CANCELLED'}
+        region = write_region_on(full, result.region, result.score, self._original_to_evaluated)
+        for warning in result.warnings:
+            self.report({'WARNING'}, warning)
+        prepared = "prepared shape reused" if job.reused else f"shape prepared in {job.localizer.preparation_seconds:.2f} s"
+        self.report(
+            {'INFO'},
+            f"Selected {int(region.sum())} of {len(region)} vertices of '{full.name}' "
+            f"(confidence {float(result.confidence):.2f}, cost {float(result.cost):.3g}, {job.elapsed:.1f} s, {prepared})",
+        )
+        return {'FINISHED'}
+
+
+#: Custom properties the search sets on each candidate object: its rank (1 = best) and its
+#: similarity score (lower is more similar; ``inf`` when the partial could not be located on it).
+RANK_PROPERTY = "dualspectra_rank"
+SIMILARITY_PROPERTY = "dualspectra_similarity"
+
+
+def candidate_objects(context):
+    """The selected mesh objects other than the active one (the partial), by name."""
+    active = context.active_object
+    return sorted((ob for ob in context.selected_objects if ob is not active and ob.type == 'MESH'), key=lambda ob: ob.name)
+
+
+class SearchOperator(JobOperator):
+    """Rank the other selected meshes as the shapes the active mesh (a partial shape) may be part of, and select the region on the best"""
+
+    bl_idname = "dualspectra.search"
+    bl_label = "Search Selected Objects"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    @classmethod
+    def poll(cls, context):
+        ob = context.active_object
+        if ob is None or ob.type != 'MESH':
+            if hasattr(cls, "poll_message_set"):
+                cls.poll_message_set("The active object must be a mesh (the partial shape)")
+            return False
+        if not candidate_objects(context):
+            if hasattr(cls, "poll_message_set"):
+                cls.poll_message_set("Select the candidate meshes too (the active one is the partial shape)")
+            return False
+        return True
+
+    def draw(self, context):
+        layout = self.layout
+        for spec in self.options_schema:
+            layout.prop(self, spec["name"])
+        layout.prop(self, "time_limit")
+        layout.prop(self, "use_modifiers")
+
+    def _prepare(self, context, on_progress):
+        module = library.load()
+        if not hasattr(module, "search"):
+            raise UserError(f"dualspectra {getattr(module, '__version__', '?')} has no search; update the add-on's library")
+        partial = context.active_object
+        if partial is None or partial.type != 'MESH':
+            raise UserError("make the partial shape the active object (a mesh)")
+        candidates = candidate_objects(context)
+        if not candidates:
+            raise UserError("select the candidate meshes together with the partial shape (active)")
+        part_v, part_f, _ = read_object(context, partial, self.use_modifiers)
+        options = schema.option_values(self, self.options_schema)
+        self._partial_name = partial.name
+        self._candidates = []
+        fulls = []
+        for ob in candidates:
+            v, f, original_to_evaluated = read_object(context, ob, self.use_modifiers)
+            key, digest = cache_key(ob), cache.fingerprint(v, f, options)
+            self._candidates.append((ob.name, key, digest, original_to_evaluated, len(ob.data.vertices)))
+            fulls.append((v, f, cache.CACHE.get(key, digest)))
+        return SearchJob(module, part_v, part_f, fulls, options, on_progress=on_progress, time_limit=self.time_limit)
+
+    def _finish(self, context, job):
+        for (_, key, digest, _, _), localizer, reused in zip(self._candidates, job.localizers, job.reused):
+            if localizer is not None and not reused:
+                cache.CACHE.put(key, digest, localizer)
+        stopped = self._stopped(job, "Search")
+        if stopped:
+            return stopped
+        if job.error is not None:
+            kind, i = job.phase
+            name = self._candidates[i][0] if kind == "full" else self._partial_name
+            self.report({'ERROR'}, f"Search failed on '{name}': {type(job.error).__name__}: {job.error}")
+            return {'CANCELLED'}
+        ranking = job.result
+        best = ranking[0]
+        name, _, _, original_to_evaluated, n_original = self._candidates[best.index]
+        full = bpy.data.objects.get(name)
+        if full is None or full.type != 'MESH' or len(full.data.vertices) != n_original:
+            self.report({'ERROR'}, f"'{name}' was deleted or edited during the search; nothing written")
+            return {'CANCELLED'}
+        for rank, match in enumerate(ranking, start=1):
+            ob = bpy.data.objects.get(self._candidates[match.index][0])
+            if ob is not None:
+                ob[RANK_PROPERTY] = rank
+                ob[SIMILARITY_PROPERTY] = float(match.score)
+        found = best.localization
+        region = write_region_on(full, found.region, found.score, original_to_evaluated)
+        for warning in found.warnings:
+            self.report({'WARNING'}, warning)
+        for rank, match in enumerate(ranking, start=1):
+            candidate = self._candidates[match.index][0]
+            if match.localization is None:
+                self.report({'INFO'}, f"#{rank} '{candidate}': not located ({match.error})")
+            else:
+                self.report({'INFO'}, f"#{rank} '{candidate}': score {match.score:.4g} "
+                                      f"(confidence {float(match.localization.confidence):.2f})")
+        prepared = sum(not r for r in job.reused)
+        self.report(
+            {'INFO'},
+            f"Best match for '{self._partial_name}': '{name}' (score {best.score:.4g}, confidence "
+            f"{float(found.confidence):.2f}); selected {int(region.sum())} of {len(region)} vertices; "
+            f"{len(ranking)} objects ranked in {job.elapsed:.1f} s ({prepared} prepared, {len(ranking) - prepared} reused)",
+        )
+        return {'FINISHED'}
+
+
+def own_properties(with_partial=True):
+    """The operator's properties that are not library options (the search has no partial
+    object: it is the active one)."""
+    props = {
         "partial_object": StringProperty(
             name="Partial",
             description="Mesh object that is a (deformed) part of the active object. "
@@ -356,6 +493,9 @@ def own_properties():
             options={'SKIP_SAVE'},
         ),
     }
+    if not with_partial:
+        del props["partial_object"]
+    return props
 
 
 def option_properties(options_schema):
@@ -363,17 +503,19 @@ def option_properties(options_schema):
     return {name: getattr(bpy.props, kind)(**kwargs) for name, kind, kwargs in schema.property_definitions(options_schema)}
 
 
-def operator_class(options_schema):
-    """The operator class with the library's options as properties (Blender reads a class's
-    properties from its annotations when it is registered, so the class is made here)."""
-    annotations = own_properties()
+def operator_class(options_schema, base=LocalizeOperator):
+    """The operator class (``base``: :class:`LocalizeOperator` or :class:`SearchOperator`)
+    with the library's options as properties (Blender reads a class's properties from its
+    annotations when it is registered, so the class is made here)."""
+    annotations = own_properties(with_partial=base is LocalizeOperator)
     clash = sorted({spec["name"] for spec in options_schema} & set(annotations))
     if clash:
         raise ValueError(f"library options {clash} clash with the operator's own properties")
     annotations.update(option_properties(options_schema))
-    return type("DUALSPECTRA_OT_localize", (LocalizeOperator, bpy.types.Operator), {
+    name = "DUALSPECTRA_OT_" + base.bl_idname.split(".")[1]
+    return type(name, (base, bpy.types.Operator), {
         "__annotations__": annotations,
-        "__doc__": LocalizeOperator.__doc__,
+        "__doc__": base.__doc__,
         "__module__": __name__,
         "options_schema": tuple(options_schema),
     })

@@ -1,14 +1,15 @@
 """The sidebar panel (3D View > Sidebar > DualSpectra) and its scene settings.
 
 The settings hold the partial object and one property per library option, made from the
-same table as the operator's (:func:`settings_class`); the button passes all of them on.
+same table as the operators' (:func:`settings_class`); both buttons (*Localize Partial
+Shape*, *Search Selected Objects*) pass the options on.
 """
 
 import bpy
 from bpy.props import PointerProperty
 
 from . import library
-from .operators import LocalizeOperator, default_partial, option_properties
+from .operators import LocalizeOperator, SearchOperator, candidate_objects, default_partial, option_properties
 
 
 def _is_mesh(_settings, ob):
@@ -66,5 +67,18 @@ class VIEW3D_PT_dualspectra(bpy.types.Panel):
         row.scale_y = 1.4
         op = row.operator(LocalizeOperator.bl_idname, icon='VIEWZOOM')
         op.partial_object = settings.partial.name if settings.partial is not None else ""
+        for name in names:
+            setattr(op, name, getattr(settings, name))
+
+        # Search: the active mesh is the partial, the other selected meshes the candidates.
+        layout.separator()
+        col = layout.column()
+        n = len(candidate_objects(context)) if active is not None and active.type == 'MESH' else 0
+        col.label(text=f"Search: is '{active.name}' part of one of {n} selected meshes?" if n else
+                  "Search: select the candidates, then the partial (active)", icon='INFO')
+        row = layout.row()
+        row.scale_y = 1.4
+        row.enabled = n > 0
+        op = row.operator(SearchOperator.bl_idname, icon='ZOOM_SELECTED')
         for name in names:
             setattr(op, name, getattr(settings, name))

@@ -15,7 +15,10 @@ a second part located on the same object reuses the prepared ``Localizer`` and s
 a fresh preparation selects; the confidence in the operator's report is the library's; loose
 vertices and degenerate faces are the library's to drop (reported as a warning, the selection
 still covers every vertex); a non-manifold partial is the library's to split (reported as a
-warning), a closed one the library's to refuse (its message reported).
+warning), a closed one the library's to refuse (its message reported). The search (issue 21):
+with the partial active and the full shape among other selected meshes, the full shape ranks
+first (report and custom properties), its region is the library's, the decoys are untouched,
+prepared shapes are reused, and errors name the object.
 
 Exit status 1 on any failure (``--python-exit-code 1`` for the Blender binary).
 """
@@ -96,9 +99,13 @@ print(f"Blender {bpy.app.version_string}, Python {sys.version.split()[0]}, add-o
 # test shapes (world space) and objects
 
 
-def lumpy_surface(subdivisions):
-    """An asymmetric closed surface: an icosphere pushed out by three Gaussian bumps of different
-    size, then stretched into an ellipsoid. Returns world vertices ``(n, 3)`` and faces ``(m, 3)``."""
+BUMPS = [((1.0, 0.3, 0.2), 0.55, 0.20), ((-0.4, 1.0, -0.3), 0.35, 0.12), ((-0.3, -0.6, 1.0), 0.25, 0.08)]
+
+
+def lumpy_surface(subdivisions, bumps=BUMPS, stretch=(1.3, 1.0, 0.8)):
+    """An asymmetric closed surface: an icosphere pushed out by Gaussian ``bumps`` (direction,
+    height, width) of different size, then stretched into an ellipsoid. Returns world vertices
+    ``(n, 3)`` and faces ``(m, 3)``."""
     import bmesh
 
     bm = bmesh.new()
@@ -110,12 +117,11 @@ def lumpy_surface(subdivisions):
     finally:
         bm.free()
     u = v / np.linalg.norm(v, axis=1, keepdims=True)
-    bumps = [((1.0, 0.3, 0.2), 0.55, 0.20), ((-0.4, 1.0, -0.3), 0.35, 0.12), ((-0.3, -0.6, 1.0), 0.25, 0.08)]
     r = np.ones(len(u))
     for centre, height, width in bumps:
         c = np.array(centre) / np.linalg.norm(centre)
         r += height * np.exp(-np.sum((u - c) ** 2, axis=1) / width)
-    return u * r[:, None] * np.array([1.3, 1.0, 0.8]), f
+    return u * r[:, None] * np.array(stretch), f
 
 
 def cut_by_plane(v, f, normal, offset):
@@ -633,6 +639,170 @@ def test_options_reach_the_library():
     assert "dualspectra_score" not in full.data.attributes
 
 
+# ---------------------------------------------------------------------------------------------
+# tests: the search (the partial active, the candidates selected)
+
+#: Other models than the full shape: differently bumped and stretched surfaces.
+DECOYS = {
+    "Decoy A": ([((0.2, -1.0, 0.3), 0.6, 0.1), ((1.0, 0.5, -0.5), 0.4, 0.3)], (1.0, 1.2, 0.9)),
+    "Decoy B": ([((0.0, 0.0, 1.0), 0.9, 0.05), ((0.0, 0.0, -1.0), 0.9, 0.05)], (0.8, 0.8, 1.2)),
+}
+#: Lighter than LIB_OPTIONS (three shapes per search; the right one still ranks first by a margin).
+SEARCH_OPTIONS = dict(k=6, centers=2, max_iterations=10, plane_cuts=2, resolution=0)
+
+
+def decoy_meshes():
+    return [lumpy_surface(ARGS.subdivisions, bumps, stretch) for bumps, stretch in DECOYS.values()]
+
+
+def search_scene():
+    """The full shape between two decoys (own transforms), the partial active."""
+    clear_scene()
+    full = make_object("Full", FULL_V, FULL_F, FULL_MATRIX)
+    decoys = [make_object(name, v, f, affine((4.0 * i - 2.0, -4.0, 0.0), (0.0, 0.0, 0.5 * i), (1.0, 1.0, 1.0)))
+              for i, (name, (v, f)) in enumerate(zip(DECOYS, decoy_meshes()))]
+    part = make_object("Partial", PART_V_MOVED, PART_F, PART_MATRIX)
+    select_only(decoys[0], full, decoys[1], part, active=part)
+    return full, decoys, part
+
+
+def run_search(**kw):
+    t0 = time.monotonic()
+    ret = bpy.ops.dualspectra.search(**dict(SEARCH_OPTIONS, time_limit=ARGS.time_limit, **kw))
+    return ret, time.monotonic() - t0
+
+
+def test_search_job_ranks_the_source_first_and_reuses_a_given_shape():
+    """bpy-free: the search job prepares the candidates it is not given, keeps them, and ranks
+    the shape the partial was cut from first, with the region its Localizer gives."""
+    localizer = dualspectra.Localizer(FULL_V, FULL_F, **SEARCH_OPTIONS)
+    (av, af), (bv, bf) = decoy_meshes()
+    seen = []
+    job = job_module.SearchJob(dualspectra, PART_V_MOVED, PART_F, [(av, af, None), (FULL_V, FULL_F, localizer), (bv, bf, None)],
+                               SEARCH_OPTIONS, on_progress=lambda f, s: seen.append(f))
+    job.run()
+    assert job.error is None and not job.cancelled, job.error
+    order = [(m.index, round(m.score, 4)) for m in job.result]
+    print(f"    ranking (index, score): {order}")
+    assert order[0][0] == 1 and sorted(i for i, _ in order) == [0, 1, 2], order
+    assert job.reused == [False, True, False] and job.localizers[1] is localizer
+    assert all(isinstance(loc, dualspectra.Localizer) for loc in job.localizers)
+    assert seen == sorted(seen) and seen[0] < 0.5 and seen[-1] == 1.0, seen[:3]
+    assert np.array_equal(job.result[0].localization.region, localizer.locate(PART_V_MOVED, PART_F).region)
+    # Cancelled at its first report.
+    job = job_module.SearchJob(dualspectra, PART_V_MOVED, PART_F, [(av, af, None), (bv, bf, None)], SEARCH_OPTIONS)
+    job.start()
+    job.cancel()
+    assert job.wait(120) and job.cancelled and job.result is None and job.error is None, job.error
+
+
+def test_search_operator_ranks_the_selected_objects_and_selects_on_the_best():
+    full, decoys, part = search_scene()
+    assert bpy.ops.dualspectra.search.poll()
+    cache_module.CACHE.clear()
+    with captured_output() as out:
+        ret, seconds = run_search()
+    assert ret == {'FINISHED'}, ret
+    text = out["text"]
+    assert "Best match for 'Partial': 'Full'" in text and "(3 prepared, 0 reused)" in text, text
+    assert "#1 'Full': score" in text and "#2 'Decoy" in text and "#3 'Decoy" in text, text
+    rank, similarity = operators.RANK_PROPERTY, operators.SIMILARITY_PROPERTY
+    assert full[rank] == 1 and sorted(d[rank] for d in decoys) == [2, 3]
+    assert full[similarity] < min(d[similarity] for d in decoys)
+    sel = selected_vertices(full.data)
+    print(f"    search: {seconds:.1f} s, scores {[round(ob[similarity], 4) for ob in [full] + decoys]}, "
+          f"IoU {iou(sel, TRUTH):.3f} with the cut")
+    # The library's answer for the meshes in world space, with the same options.
+    fv, ff = world_arrays(full)
+    pv, pf = world_arrays(part)
+    direct = dualspectra.Localizer(fv, ff, **SEARCH_OPTIONS).locate(pv, pf)
+    assert np.array_equal(sel, direct.region), f"differ on {(sel != direct.region).sum()} vertices"
+    assert all("dualspectra_region" not in d.data.attributes for d in decoys + [part])
+    # Again: every prepared shape is reused, the answer is the same.
+    full.data.vertices.foreach_set("select", np.zeros(len(full.data.vertices), dtype=bool))
+    with captured_output() as out:
+        ret, _ = run_search()
+    assert ret == {'FINISHED'} and "(0 prepared, 3 reused)" in out["text"], out["text"]
+    assert np.array_equal(selected_vertices(full.data), sel)
+
+
+def test_search_operator_properties_and_poll():
+    table = dualspectra.options_schema()
+    names = {p.identifier for p in bpy.ops.dualspectra.search.get_rna_type().properties}
+    assert names == {"rna_type", "time_limit", "use_modifiers", "background"} | {spec["name"] for spec in table}, names
+    assert {'REGISTER', 'UNDO'} <= set(bpy.types.DUALSPECTRA_OT_search.bl_options)
+    full, decoys, part = search_scene()
+    select_only(part, active=part)
+    assert not bpy.ops.dualspectra.search.poll()  # no candidate selected
+    select_only(part, full, active=None)
+    assert not bpy.ops.dualspectra.search.poll()  # no partial (active) object
+
+
+def expect_search_error(words, **kw):
+    try:
+        ret = bpy.ops.dualspectra.search(**dict(SEARCH_OPTIONS, **kw))
+    except RuntimeError as exc:
+        assert all(w in str(exc) for w in words), f"{exc} lacks {words}"
+        return str(exc)
+    raise AssertionError(f"no error reported; returned {ret}")
+
+
+def test_search_errors_name_the_object():
+    full, decoys, part = search_scene()
+    mesh = bpy.data.meshes.new("Edges")
+    mesh.from_pydata([(0, 0, 0), (1, 0, 0), (0, 1, 0)], [(0, 1), (1, 2)], [])
+    edges = bpy.data.objects.new("Edges", mesh)
+    bpy.context.scene.collection.objects.link(edges)
+    select_only(full, edges, part, active=part)
+    msg = expect_search_error(["Search failed on 'Edges'", "no faces"])
+    print("    reported:", msg.strip())
+    select_only(full, part, active=part)
+    expect_search_error(["time limit"], time_limit=1e-3)
+    assert "dualspectra_region" not in full.data.attributes
+
+
+def test_panel_offers_both_buttons():
+    """The panel's draw code (with a recording stand-in for Blender's layout): both buttons,
+    the search's enabled with the partial active and candidates selected, the options passed."""
+    import types
+
+    class Layout:
+        def __init__(self):
+            self.log, self.scale_y, self.enabled = [], 1.0, True
+
+        def column(self):
+            return self
+
+        row = box = column
+
+        def separator(self):
+            pass
+
+        def label(self, text="", icon='NONE'):
+            self.log.append(("label", text, self.enabled))
+
+        def prop(self, data, name):
+            self.log.append(("prop", name, self.enabled))
+
+        def operator(self, idname, icon='NONE'):
+            op = types.SimpleNamespace()
+            self.log.append(("operator", idname, self.enabled, op))
+            return op
+
+    panel_class = sys.modules[ADDON + ".panel"].VIEW3D_PT_dualspectra
+    full, decoys, part = search_scene()
+    layout = Layout()
+    panel_class.draw(types.SimpleNamespace(layout=layout), bpy.context)
+    ops = {entry[1]: entry for entry in layout.log if entry[0] == "operator"}
+    assert set(ops) == {"dualspectra.localize", "dualspectra.search"}, layout.log
+    assert ops["dualspectra.search"][2] and ops["dualspectra.search"][3].k == bpy.context.scene.dualspectra.k
+    assert ("label", "Search: is 'Partial' part of one of 3 selected meshes?", True) in layout.log, layout.log
+    select_only(part, active=part)
+    layout = Layout()
+    panel_class.draw(types.SimpleNamespace(layout=layout), bpy.context)
+    assert not [e for e in layout.log if e[0] == "operator" and e[1] == "dualspectra.search"][0][2], layout.log
+
+
 def test_poll_needs_active_mesh():
     clear_scene()
     bpy.ops.object.empty_add()
@@ -651,11 +821,13 @@ def test_disable_and_enable_again():
     cache_module.CACHE.put("x", "y", object())
     addon_utils.disable(ADDON, default_set=True)
     assert not hasattr(bpy.types, "DUALSPECTRA_OT_localize") and not hasattr(bpy.types.Scene, "dualspectra")
+    assert not hasattr(bpy.types, "DUALSPECTRA_OT_search")
     assert len(cache_module.CACHE) == 0 and not quieting_filters()
     assert not any(getattr(h, "__name__", "") == "clear_cache" for h in bpy.app.handlers.load_pre)
     addon_utils.enable(ADDON, default_set=True)
-    props = bpy.ops.dualspectra.localize.get_rna_type().properties
-    assert all(spec["name"] in props for spec in dualspectra.options_schema())
+    for op in (bpy.ops.dualspectra.localize, bpy.ops.dualspectra.search):
+        props = op.get_rna_type().properties
+        assert all(spec["name"] in props for spec in dualspectra.options_schema())
     assert sum(getattr(h, "__name__", "") == "clear_cache" for h in bpy.app.handlers.load_pre) == 1
     assert len(quieting_filters()) == 1
 

@@ -126,6 +126,48 @@ def cut(v: np.ndarray, f: np.ndarray, keep: np.ndarray) -> Tuple[np.ndarray, np.
     return v[used], new[fk], used
 
 
+#: Limbs ``(direction, height, width)`` of :func:`figure`'s shapes: the default figure (head,
+#: long arm +x, short arm -x, two legs), a four-legged one with a tail, one with a long horn
+#: (the Rust core's ``evaluation::synthetic`` figures).
+FIGURE_LIMBS: Dict[str, List[Tuple[Tuple[float, float, float], float, float]]] = {
+    "figure": [((0, 0, 1), 0.55, 0.38), ((1, 0, 0.12), 1.25, 0.24), ((-1, 0, 0.12), 0.8, 0.26),
+               ((0.42, 0, -1), 1.1, 0.26), ((-0.42, 0, -1), 1.1, 0.26)],
+    "quadruped": [((1, 0, 0.3), 0.6, 0.35), ((0.5, 0.5, -1), 0.9, 0.2), ((0.5, -0.5, -1), 0.9, 0.2),
+                  ((-0.5, 0.5, -1), 0.9, 0.2), ((-0.5, -0.5, -1), 0.9, 0.2), ((-1, 0, 0.4), 1.4, 0.12)],
+    "horned": [((0, 0, 1), 2.0, 0.15), ((0, 0, -1), 0.4, 0.6)],
+}
+
+
+def figure(level: int, kind: str = "figure") -> Tuple[np.ndarray, np.ndarray]:
+    """An icosphere pushed out radially by Gaussian limbs (``FIGURE_LIMBS[kind]``), then
+    flattened front to back (y * 0.7)."""
+    u, f = icosphere(level)
+    r = np.ones(len(u))
+    for direction, height, width in FIGURE_LIMBS[kind]:
+        d = np.asarray(direction, float) / np.linalg.norm(direction)
+        r += height * np.exp(-((np.arccos(np.clip(u @ d, -1, 1)) / width) ** 2))
+    p = u * r[:, None]
+    p[:, 1] *= 0.7
+    return p, f
+
+
+def bend(p: np.ndarray, joint: float = 1.1, length: float = 1.1, angle: float = np.radians(50)) -> np.ndarray:
+    """:func:`figure`'s long arm bent up: points beyond ``joint`` along the arm's axis are
+    bent by ``angle`` towards +z over ``length`` (a near-isometric pose of the figure)."""
+    a = np.array([1.0, 0.0, 0.12]) / np.linalg.norm([1.0, 0.0, 0.12])
+    b = np.array([0.0, 0.0, 1.0]) - a[2] * a
+    b /= np.linalg.norm(b)
+    t, h = p @ a, p @ b
+    rest = p - np.outer(t, a) - np.outer(h, b)
+    kappa = angle / length
+    s = np.minimum(t - joint, length)
+    sn, cs = np.sin(kappa * s), np.cos(kappa * s)
+    beyond = np.maximum(t - joint - length, 0.0)
+    c0, c1 = sn / kappa + beyond * cs, (1 - cs) / kappa + beyond * sn
+    bent = rest + np.outer(joint + c0 - h * sn, a) + np.outer(c1 + h * cs, b)
+    return np.where((t > joint)[:, None], bent, p)
+
+
 GENERATED: Dict[str, Callable[[], Tuple[np.ndarray, np.ndarray]]] = {
     # closed
     "icosphere3": lambda: icosphere(3),

@@ -3,6 +3,7 @@
 //! | core `dualspectra::Error`          | Python exception                          |
 //! |------------------------------------|-------------------------------------------|
 //! | `InvalidMesh`, `InvalidMeshFile`, `Parse` | `dualspectra.MeshError` (a `ValueError`) |
+//! | `PreparedShape` (a foreign, stale, truncated or corrupted `.dsprep`) | `dualspectra.MeshError` |
 //! | `InvalidArgument`                  | `ValueError`                              |
 //! | `Io`                               | `OSError` (errno subclass, e.g. `FileNotFoundError`) |
 //! | `Numerical`                        | `dualspectra.NumericalError` (a `RuntimeError`) |
@@ -19,7 +20,7 @@ pyo3::create_exception!(
     dualspectra,
     MeshError,
     PyValueError,
-    "The mesh arrays or mesh file are invalid (bad shape, index out of range, degenerate or non-manifold, unreadable file content)."
+    "The mesh arrays or mesh file are invalid (bad shape, index out of range, degenerate or non-manifold, unreadable file content), or a prepared-shape file cannot be loaded (foreign, stale, truncated or corrupted)."
 );
 pyo3::create_exception!(
     dualspectra,
@@ -38,7 +39,9 @@ pyo3::create_exception!(
 pub fn to_py(err: Error) -> PyErr {
     match err {
         Error::InvalidMesh(e) => MeshError::new_err(e.to_string()),
-        e @ (Error::InvalidMeshFile { .. } | Error::Parse { .. }) => MeshError::new_err(e.to_string()),
+        e @ (Error::InvalidMeshFile { .. } | Error::Parse { .. } | Error::PreparedShape { .. }) => {
+            MeshError::new_err(e.to_string())
+        }
         Error::InvalidArgument(msg) => PyValueError::new_err(msg),
         Error::Io { path, source } => {
             let filename = path.display().to_string();

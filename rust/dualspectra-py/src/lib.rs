@@ -13,6 +13,7 @@ mod localization;
 mod operators;
 mod options;
 mod progress;
+mod search;
 
 use pyo3::prelude::*;
 
@@ -26,7 +27,9 @@ fn _dualspectra(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<localization::Localization>()?;
     m.add_class::<localization::Candidate>()?;
     m.add_class::<localization::Localizer>()?;
+    m.add_class::<search::Match>()?;
     m.add_function(wrap_pyfunction!(localization::localize, m)?)?;
+    m.add_function(wrap_pyfunction!(search::search, m)?)?;
     m.add_function(wrap_pyfunction!(options::options_schema, m)?)?;
     m.add_function(wrap_pyfunction!(operators::cotangent_stiffness, m)?)?;
     m.add_function(wrap_pyfunction!(operators::lumped_mass, m)?)?;

@@ -1,19 +1,25 @@
-//! The localizer (`Localizer`, `localize`) and its results (`Localization`, `Candidate`).
+//! The localizer (`Localizer`, `localize`), its results (`Localization`, `Candidate`) and
+//! prepared shapes as files and bytes (`Localizer.save` / `load` / `to_bytes` / `from_bytes`,
+//! the core's `.dsprep` format).
 //!
-//! Both meshes enter through the core's `MeshIntake`; every per-vertex result leaves through
-//! the full mesh's `MeshIntake::to_host` (regions: `to_host_any`, selected if any copy of a
-//! split non-manifold vertex is), so it is indexed by the caller's vertices (vertices the
-//! intake dropped read `False` / `0.0`), and the intake's notes lead the warnings.
+//! Both meshes enter through the core's `MeshIntake`; the full mesh's numbering (the
+//! intake's `kept` map, a `HostNumbering`) stays with the prepared shape, in memory and in
+//! its file, and every per-vertex result leaves through it (regions: selected if any copy of
+//! a split non-manifold vertex is; values: the first copy's), so it is indexed by the
+//! caller's vertices (vertices the intake dropped read `False` / `0.0`), and the intake's
+//! notes lead the warnings.
 
 use crate::convert::intake;
 use crate::errors::to_py;
 use crate::options;
 use crate::progress::python_progress;
+use dualspectra::localizer::HostNumbering;
 use dualspectra::mesh::intake::MeshIntake;
 use dualspectra::{Error, Progress};
 use numpy::{PyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyTuple};
+use pyo3::types::{PyBytes, PyDict, PyTuple};
+use std::path::PathBuf;
 
 /// One optimised start of a localization.
 #[pyclass(frozen, module = "dualspectra", name = "Candidate")]
@@ -76,6 +82,10 @@ pub struct Localization {
     /// Estimated probability, in [0, 1], that the region overlaps the true one with IoU >= 0.5.
     #[pyo3(get)]
     confidence: f64,
+    /// The core's similarity score of the partial to the full shape (lower is more similar;
+    /// `dualspectra::search::similarity_score_of`).
+    #[pyo3(get)]
+    similarity_score: f64,
     #[pyo3(get)]
     selected_start: usize,
     #[pyo3(get)]
@@ -120,22 +130,52 @@ impl Localization {
         PyTuple::new(py, &self.warnings)
     }
 
-    fn __repr__(&self) -> String {
+    pub(crate) fn __repr__(&self) -> String {
         format!(
-            "Localization(region={}/{} vertices, cost={:.6e}, confidence={:.3}, selected_start={}, n_starts={}, total={:.3}s)",
-            self.n_selected, self.n_vertices, self.cost, self.confidence, self.selected_start, self.n_starts, self.timings.total
+            "Localization(region={}/{} vertices, cost={:.6e}, confidence={:.3}, similarity_score={:.6e}, selected_start={}, n_starts={}, total={:.3}s)",
+            self.n_selected,
+            self.n_vertices,
+            self.cost,
+            self.confidence,
+            self.similarity_score,
+            self.selected_start,
+            self.n_starts,
+            self.timings.total
         )
     }
 }
 
+/// The caller's numbering of an intake's mesh.
+fn host_of(intake: &MeshIntake) -> HostNumbering {
+    HostNumbering { n_host_vertices: intake.n_host_vertices, kept: intake.kept.clone() }
+}
+
+/// The numbering of a mesh given as it is (nothing dropped or split).
+fn identity(n_vertices: usize) -> HostNumbering {
+    HostNumbering { n_host_vertices: n_vertices, kept: (0..n_vertices as u32).collect() }
+}
+
+/// Per-vertex `values` of the mesh at the caller's vertices: a split vertex takes its first
+/// copy's value (as `MeshIntake::to_host`), `0.0` where the intake dropped a vertex.
+fn values_to_host(host: &HostNumbering, values: &[f64]) -> Vec<f64> {
+    let mut out = vec![0.0; host.n_host_vertices];
+    // Backwards, so that the first copy is written last.
+    for (&h, &v) in host.kept.iter().zip(values).rev() {
+        out[h as usize] = v;
+    }
+    out
+}
+
 impl Localization {
-    /// The core's result on `full.mesh`, its per-vertex arrays brought back to the host's
-    /// vertices; `notes` (the intakes' warnings) go before the core's warnings.
-    fn new(py: Python<'_>, r: dualspectra::Localization, full: &MeshIntake, notes: Vec<String>) -> PyResult<Self> {
+    /// The core's result on the full shape's mesh, its per-vertex arrays brought back to the
+    /// caller's vertices (`host`); `notes` (the intakes' warnings) go before the core's
+    /// warnings.
+    pub(crate) fn new(py: Python<'_>, r: dualspectra::Localization, host: &HostNumbering, notes: Vec<String>) -> PyResult<Self> {
+        let similarity_score = dualspectra::search::similarity_score_of(&r);
         let arr = |v: Vec<f64>| PyArray1::from_vec(py, v).unbind();
         // A split (non-manifold) vertex is selected if any copy is; values are its first copy's.
-        let mask = |v: &[bool]| PyArray1::from_vec(py, full.to_host_any(v)).unbind();
-        let region = full.to_host_any(&r.region);
+        let mask = |v: &[bool]| PyArray1::from_vec(py, host.region_to_host(v)).unbind();
+        let region = host.region_to_host(&r.region);
         let candidates = r
             .candidates
             .into_iter()
@@ -163,14 +203,15 @@ impl Localization {
             n_selected: region.iter().filter(|&&b| b).count(),
             n_vertices: region.len(),
             region: PyArray1::from_vec(py, region).unbind(),
-            score: arr(full.to_host(&r.score, 0.0)),
-            potential: arr(full.to_host(&r.potential, 0.0)),
+            score: arr(values_to_host(host, &r.score)),
+            potential: arr(values_to_host(host, &r.potential)),
             eigenvalues_regular: arr(r.eigenvalues_regular),
             eigenvalues_si: arr(r.eigenvalues_si),
             target_regular: arr(r.target_regular),
             target_si: arr(r.target_si),
             cost: r.cost,
             confidence: r.confidence,
+            similarity_score,
             selected_start: r.selected_start,
             n_starts: r.n_starts,
             candidates,
@@ -181,7 +222,7 @@ impl Localization {
 }
 
 /// Check the optional progress callback.
-fn check_callable(py: Python<'_>, progress: &Option<Py<PyAny>>) -> PyResult<()> {
+pub(crate) fn check_callable(py: Python<'_>, progress: &Option<Py<PyAny>>) -> PyResult<()> {
     match progress {
         Some(cb) if !cb.bind(py).is_callable() => {
             Err(pyo3::exceptions::PyTypeError::new_err("progress must be callable (fraction, stage) -> bool | None"))
@@ -192,7 +233,7 @@ fn check_callable(py: Python<'_>, progress: &Option<Py<PyAny>>) -> PyResult<()> 
 
 /// Run `work` with the GIL released under a progress handle calling `progress`; a
 /// cancellation re-raises the callback's exception (or `KeyboardInterrupt`) if there was one.
-fn with_progress<T: Send>(
+pub(crate) fn with_progress<T: Send>(
     py: Python<'_>,
     progress: Option<Py<PyAny>>,
     work: impl FnOnce(&Progress) -> dualspectra::Result<T> + Send,
@@ -205,17 +246,38 @@ fn with_progress<T: Send>(
     }
 }
 
-/// The full mesh's intake note and the core's preparation notes.
-fn localizer_warnings(full: &MeshIntake, core: &dualspectra::Localizer) -> Vec<String> {
-    full.warning("full mesh").into_iter().chain(core.warnings().iter().cloned()).collect()
-}
-
 /// A full shape prepared once for locating partials on it (native side of
 /// `dualspectra.Localizer`).
 #[pyclass(frozen, module = "dualspectra._dualspectra", name = "Localizer")]
 pub struct Localizer {
-    inner: dualspectra::Localizer,
-    full: MeshIntake,
+    pub(crate) inner: dualspectra::Localizer,
+    /// The caller's numbering of the full mesh (also kept in `inner`, and so in its file,
+    /// when it is not the identity).
+    pub(crate) host: HostNumbering,
+    /// What the intake of the full mesh changed (`None` for a loaded shape: not in the file).
+    note: Option<String>,
+}
+
+impl Localizer {
+    /// The full mesh's intake note, if any, and the core's notes.
+    fn all_warnings(&self) -> Vec<String> {
+        self.note.iter().chain(self.inner.warnings()).cloned().collect()
+    }
+
+    /// The notes every result on this shape starts with, then `partial`'s intake note.
+    pub(crate) fn notes_for(&self, partial: &MeshIntake) -> Vec<String> {
+        self.note.iter().cloned().chain(partial.warning("partial mesh")).collect()
+    }
+
+    /// A loaded core localizer, run on `threads` threads if given, results in its stored
+    /// numbering (the identity when none was stored).
+    fn loaded(mut inner: dualspectra::Localizer, threads: Option<usize>, note: Option<String>) -> PyResult<Self> {
+        if let Some(t) = threads {
+            inner.set_threads(t).map_err(to_py)?;
+        }
+        let host = inner.host_numbering().cloned().unwrap_or_else(|| identity(inner.n_vertices()));
+        Ok(Localizer { inner, host, note })
+    }
 }
 
 #[pymethods]
@@ -232,8 +294,46 @@ impl Localizer {
         check_callable(py, &progress)?;
         let options = options::from_kwargs(options)?;
         let full = intake("full mesh", &vertices, &faces)?;
-        let inner = with_progress(py, progress, |p| dualspectra::Localizer::with_progress(&full.mesh, &options, p))?;
-        Ok(Localizer { inner, full })
+        let mut inner = with_progress(py, progress, |p| dualspectra::Localizer::with_progress(&full.mesh, &options, p))?;
+        let host = host_of(&full);
+        // Stored with the shape (saved files name the caller's vertices) unless it is the identity.
+        let same = host.n_host_vertices == host.kept.len() && host.kept.iter().enumerate().all(|(i, &k)| k as usize == i);
+        inner.set_host_numbering((!same).then(|| host.clone())).map_err(to_py)?;
+        Ok(Localizer { inner, host, note: full.warning("full mesh") })
+    }
+
+    /// Write the prepared shape to `path` (the core's `.dsprep` format).
+    fn save(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        py.detach(|| self.inner.save(&path)).map_err(to_py)
+    }
+
+    /// A prepared shape read from `path`, run on `threads` threads if given.
+    #[staticmethod]
+    #[pyo3(signature = (path, threads=None))]
+    fn load(py: Python<'_>, path: PathBuf, threads: Option<usize>) -> PyResult<Self> {
+        let inner = py.detach(|| dualspectra::Localizer::load(&path)).map_err(to_py)?;
+        Localizer::loaded(inner, threads, None)
+    }
+
+    /// The prepared shape as bytes (the file's content).
+    fn to_bytes<'py>(&self, py: Python<'py>) -> Bound<'py, PyBytes> {
+        let bytes = py.detach(|| self.inner.to_bytes());
+        PyBytes::new(py, &bytes)
+    }
+
+    /// A prepared shape from `to_bytes`' bytes, run on `threads` threads if given;
+    /// `intake_note` restores the full mesh's intake note (pickling keeps it beside the bytes).
+    #[staticmethod]
+    #[pyo3(signature = (data, threads=None, intake_note=None))]
+    fn from_bytes(py: Python<'_>, data: &[u8], threads: Option<usize>, intake_note: Option<String>) -> PyResult<Self> {
+        let inner = py.detach(|| dualspectra::Localizer::from_bytes(data)).map_err(to_py)?;
+        Localizer::loaded(inner, threads, intake_note)
+    }
+
+    /// What the intake of the full mesh changed (`None`: nothing, or a loaded shape).
+    #[getter]
+    fn intake_note(&self) -> Option<String> {
+        self.note.clone()
     }
 
     /// Locate a partial mesh; callable from several threads at once.
@@ -248,14 +348,13 @@ impl Localizer {
         check_callable(py, &progress)?;
         let partial = intake("partial mesh", &vertices, &faces)?;
         let r = with_progress(py, progress, |p| self.inner.locate(&partial.mesh, p))?;
-        let notes = self.full.warning("full mesh").into_iter().chain(partial.warning("partial mesh")).collect();
-        Localization::new(py, r, &self.full, notes)
+        Localization::new(py, r, &self.host, self.notes_for(&partial))
     }
 
     /// Vertices of the caller's full mesh (the length of every per-vertex result).
     #[getter]
     fn n_vertices(&self) -> usize {
-        self.full.n_host_vertices
+        self.host.n_host_vertices
     }
 
     /// Vertices of the optimisation mesh (the full shape decimated to about `resolution`).
@@ -267,7 +366,7 @@ impl Localizer {
     /// Notes on the full mesh's intake and the preparation, as a tuple of str.
     #[getter]
     fn warnings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
-        PyTuple::new(py, localizer_warnings(&self.full, &self.inner))
+        PyTuple::new(py, self.all_warnings())
     }
 
     /// The options it was prepared with, as a dict (a new one on each access).
@@ -285,7 +384,7 @@ impl Localizer {
     fn __repr__(&self) -> String {
         format!(
             "Localizer(n_vertices={}, optimisation_vertices={}, preparation={:.3}s)",
-            self.full.n_host_vertices,
+            self.host.n_host_vertices,
             self.inner.optimisation_vertices(),
             self.inner.preparation_seconds()
         )
@@ -310,5 +409,5 @@ pub fn localize(
     let partial = intake("partial mesh", &partial_vertices, &partial_faces)?;
     let r = with_progress(py, progress, |p| dualspectra::localize(&full.mesh, &partial.mesh, &options, p))?;
     let notes = full.warning("full mesh").into_iter().chain(partial.warning("partial mesh")).collect();
-    Localization::new(py, r, &full, notes)
+    Localization::new(py, r, &host_of(&full), notes)
 }

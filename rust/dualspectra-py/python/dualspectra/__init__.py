@@ -6,6 +6,14 @@ find the region of M that N is (Bracha, Halimi, Kimmel: "Partial Shape Similarit
 Multi-metric Hamiltonian Spectra Matching"). The operators it is built on (cotangent
 stiffness, lumped mass, Gaussian curvature, Dirichlet spectra) are exposed too.
 
+Partial shape similarity: :func:`search` ranks several full shapes for one partial ("which
+of these models is this fragment part of, and where?") by the core's similarity score
+(:attr:`Localization.similarity_score`, lower is more similar), and
+:func:`dualspectra.batch.search_batch` (also here as :func:`search_batch`) does so for many
+partials, locally or on a Dask cluster. A prepared :class:`Localizer` is saved and loaded
+(:meth:`Localizer.save`, :meth:`Localizer.load`: the core's versioned ``.dsprep`` files) and
+pickled (as the same bytes), so a library of full shapes is prepared once.
+
 Meshes are passed as two array-likes: vertices ``V`` of shape ``(n, 3)`` (anything
 convertible to float64) and faces ``F`` of shape ``(m, 3)`` (integers, 0-based). Every
 computation runs in the Rust core ``dualspectra`` with the GIL released; this module only
@@ -20,7 +28,8 @@ The localizer's options (``k``, ``mode``, ...) are keyword arguments named as in
 table, :func:`options_schema` (names, types, ranges, defaults, docs); unknown names and
 values out of range raise ``ValueError`` with the core's message.
 
-Errors: :class:`MeshError` (a ``ValueError``) for invalid meshes or mesh files,
+Errors: :class:`MeshError` (a ``ValueError``) for invalid meshes or mesh files (and
+prepared-shape files that are foreign, stale, truncated or corrupted),
 :class:`Cancelled` when a progress callback returns ``False``, :class:`NumericalError`
 (a ``RuntimeError``) when a numerical step fails, ``ValueError`` for bad arguments,
 ``OSError`` for unreadable files, ``TypeError`` for arrays or values of the wrong kind.
@@ -39,24 +48,42 @@ from __future__ import annotations
 
 import os
 import warnings
-from typing import TYPE_CHECKING, Any, Callable, Dict, Iterable, List, Literal, Optional, Tuple, Union, final, overload
+from typing import (
+    TYPE_CHECKING,
+    Any,
+    Callable,
+    Dict,
+    Iterable,
+    List,
+    Literal,
+    Optional,
+    Sequence,
+    Set,
+    Tuple,
+    Union,
+    final,
+    overload,
+)
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _dualspectra
-from ._dualspectra import Cancelled, Candidate, Localization, MeshError, NumericalError, __version__
+from ._dualspectra import Cancelled, Candidate, Localization, Match, MeshError, NumericalError, __version__
 
 if TYPE_CHECKING:
     from scipy.sparse import csc_matrix  # type: ignore[import-untyped, unused-ignore]
 
 __all__ = [
     "__version__",
+    "BatchMatch",
     "Cancelled",
     "Candidate",
     "DualspectraWarning",
+    "FullShape",
     "Localization",
     "Localizer",
+    "Match",
     "MeshError",
     "NumericalError",
     "OptionValue",
@@ -68,6 +95,8 @@ __all__ = [
     "lumped_mass",
     "options_schema",
     "read_mesh",
+    "search",
+    "search_batch",
     "spectrum",
 ]
 
@@ -78,6 +107,9 @@ ProgressCallback = Callable[[float, str], Optional[bool]]
 #: The value of one localizer option: an ``int`` or ``float`` in its range, or a ``str``
 #: (a choice's name, or a number as text).
 OptionValue = Union[int, float, str]
+
+#: A path to a file: a str or an ``os.PathLike``.
+PathLike = Union[str, "os.PathLike[str]"]
 
 _INDEX_MAX = np.iinfo(np.int64).max
 
@@ -149,7 +181,9 @@ class Localizer:
     and one symbolic factorization. :meth:`locate` then runs the matching for one partial.
     Both release the GIL; :meth:`locate` may be called from several threads at once on one
     ``Localizer``. ``localize(V, F, P, G, **options)`` is
-    ``Localizer(V, F, **options).locate(P, G)`` in one call.
+    ``Localizer(V, F, **options).locate(P, G)`` in one call. A prepared shape is saved and
+    loaded (:meth:`save`, :meth:`load`), turned into bytes and back (:meth:`to_bytes`,
+    :meth:`from_bytes`) and pickled (as those bytes, e.g. for a Dask worker).
 
     Args:
         vertices, faces: the full shape M, ``(n, 3)`` and ``(m, 3)``. Degenerate faces and
@@ -238,11 +272,69 @@ class Localizer:
 
     @property
     def preparation_seconds(self) -> float:
-        """Wall-clock seconds the preparation took."""
+        """Wall-clock seconds the preparation took (for a loaded shape: the loading)."""
         return self._native.preparation_seconds
+
+    def save(self, path: PathLike) -> None:
+        """Write the prepared shape to ``path`` (by convention ``*.dsprep``; the core's
+        versioned format), to :meth:`load` it later instead of preparing the shape again.
+
+        The file keeps the options and the numbering of the vertices as given (results of
+        the loaded shape are indexed by them). Raises ``OSError`` if it cannot be written.
+        """
+        self._native.save(os.fspath(path))
+
+    @classmethod
+    def load(cls, path: PathLike, *, threads: Optional[int] = None) -> "Localizer":
+        """A prepared shape written by :meth:`save`: it locates as the saved one did (same
+        regions, scores and similarity scores), results indexed by the vertices it was
+        prepared with (for a file of ``dualspectra prepare``, the mesh file's vertex records).
+
+        Args:
+            path: the ``.dsprep`` file.
+            threads: worker threads from now on (0: all cores); default: the saved option.
+
+        Raises:
+            MeshError: the file is not a prepared shape (foreign), was written by another
+            format version (stale: prepare the shape again), or is truncated or corrupted;
+            the message names the file and the problem. OSError: it cannot be read.
+        """
+        native = _dualspectra.Localizer.load(os.fspath(path), None if threads is None else _count(threads, "threads"))
+        localizer = cls._wrap(native)
+        _warn(native.warnings)
+        return localizer
+
+    def to_bytes(self) -> bytes:
+        """The prepared shape as bytes: what :meth:`save` writes."""
+        return self._native.to_bytes()
+
+    @classmethod
+    def from_bytes(cls, data: Union[bytes, bytearray, memoryview], *, threads: Optional[int] = None) -> "Localizer":
+        """A prepared shape from :meth:`to_bytes`' bytes (errors and ``threads`` as :meth:`load`)."""
+        native = _dualspectra.Localizer.from_bytes(
+            data if isinstance(data, bytes) else bytes(data), None if threads is None else _count(threads, "threads")
+        )
+        localizer = cls._wrap(native)
+        _warn(native.warnings)
+        return localizer
+
+    @classmethod
+    def _wrap(cls, native: _dualspectra.Localizer) -> "Localizer":
+        localizer = cls.__new__(cls)
+        localizer._native = native
+        return localizer
+
+    def __reduce__(self) -> Tuple[Callable[[bytes, Optional[str]], "Localizer"], Tuple[bytes, Optional[str]]]:
+        # Pickled as its bytes (and the intake's note, which the file does not keep), e.g. to
+        # ship a prepared shape to a Dask worker; unpickling warns about nothing.
+        return (_unpickle_localizer, (self._native.to_bytes(), self._native.intake_note))
 
     def __repr__(self) -> str:
         return repr(self._native)
+
+
+def _unpickle_localizer(data: bytes, intake_note: Optional[str]) -> Localizer:
+    return Localizer._wrap(_dualspectra.Localizer.from_bytes(data, None, intake_note))
 
 
 def localize(
@@ -288,6 +380,127 @@ def localize(
     result = _dualspectra.localize(fv, ff, pv, pf, options, progress)
     _warn(result.warnings)
     return result
+
+
+#: A full shape to search: a prepared :class:`Localizer`, a mesh ``(vertices, faces)``
+#: (prepared with the options given) or the path of a prepared shape (``.dsprep``, loaded).
+FullShape = Union[Localizer, Tuple[ArrayLike, ArrayLike], PathLike]
+
+
+def _mesh_pair(mesh: Any, what: str) -> Tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """``(vertices, faces)`` as :func:`_mesh_arrays` gives them, from a pair."""
+    try:
+        vertices, faces = mesh
+    except (TypeError, ValueError):
+        raise TypeError(f"{what} must be a (vertices, faces) pair, got {type(mesh).__name__}") from None
+    return _mesh_arrays(vertices, faces, what)
+
+
+def _is_path(full: Any) -> bool:
+    return isinstance(full, (str, os.PathLike))
+
+
+def _check_fulls(fulls: Sequence[FullShape], options: Dict[str, OptionValue]) -> List[FullShape]:
+    """The shapes as a list, each checked for its kind (arrays converted); a warning when
+    options other than ``threads`` are given for prepared shapes (which keep theirs)."""
+    out: List[FullShape] = []
+    for i, full in enumerate(fulls):
+        if isinstance(full, Localizer) or _is_path(full):
+            out.append(full)
+        elif isinstance(full, (tuple, list)):
+            out.append(_mesh_pair(full, f"full shape {i}"))
+        else:
+            raise TypeError(
+                f"full shape {i}: expected a Localizer, a (vertices, faces) pair or the path of a prepared shape, "
+                f"got {type(full).__name__}"
+            )
+    if any(not isinstance(f, tuple) for f in out) and set(options) - {"threads"}:
+        _warn(["prepared shapes keep the options they were prepared with; the options given apply to the meshes only"])
+    return out
+
+
+def _prepared(full: FullShape, options: Dict[str, OptionValue], progress: Optional[ProgressCallback] = None) -> Localizer:
+    """A checked full shape (:func:`_check_fulls`) as a prepared one."""
+    if isinstance(full, Localizer):
+        return full
+    if isinstance(full, (str, os.PathLike)):
+        threads = options.get("threads")
+        return Localizer.load(full, threads=None if threads is None else _count(threads, "threads"))
+    vertices, faces = full
+    return Localizer(vertices, faces, progress=progress, **options)
+
+
+def _span(progress: Optional[ProgressCallback], lo: float, hi: float) -> Optional[ProgressCallback]:
+    """``progress`` for a part of the run: fractions of the part mapped into ``[lo, hi]``."""
+    if progress is None:
+        return None
+    report = progress
+    return lambda fraction, stage: report(lo + (hi - lo) * fraction, stage)
+
+
+def search(
+    partial: Tuple[ArrayLike, ArrayLike],
+    fulls: Sequence[FullShape],
+    *,
+    top: Optional[int] = None,
+    progress: Optional[ProgressCallback] = None,
+    **options: OptionValue,
+) -> List[Match]:
+    """Which of the full shapes is the partial shape a part of, and where: the partial is
+    located on each and the shapes are ranked by :attr:`Localization.similarity_score`
+    (lower is more similar; comparable across shapes of different size and meshing).
+
+    Args:
+        partial: the partial shape N, ``(vertices, faces)``.
+        fulls: the full shapes: prepared :class:`Localizer` objects (used with the options
+            they were prepared with), meshes ``(vertices, faces)`` (prepared here with
+            ``options``) or paths of prepared shapes (``.dsprep``, :meth:`Localizer.load`).
+        top: return the ``top`` best matches only (default: all).
+        progress: optional ``callback(fraction, stage)`` over the whole search (preparing
+            the meshes, then locating on each shape); returning ``False`` cancels.
+        **options: the core's options by name, for the meshes of ``fulls`` (as for
+            :class:`Localizer`; a warning when they are given with prepared shapes, apart
+            from ``threads``).
+
+    Returns:
+        The matches, best first (ties by index): :class:`Match` with ``index`` (into
+        ``fulls``), ``score`` (the similarity score), ``localization`` (a
+        :class:`Localization` indexed by that shape's vertices) and ``error``. A shape the
+        partial cannot be located on (e.g. it is smaller than the partial) ranks last, with
+        ``score = inf``, ``localization = None`` and the reason in ``error``.
+
+    Raises:
+        MeshError: a mesh cannot be used, or a prepared-shape file cannot be loaded.
+        ValueError: the partial cannot be located on any of the shapes (the first shape's
+        reason). Cancelled: the callback returned ``False``.
+    """
+    pv, pf = _mesh_pair(partial, "partial mesh")
+    _check_progress(progress)
+    checked = _check_fulls(fulls, options)
+    if top is not None:
+        top = _count(top, "top")
+    # Progress: one unit per mesh to prepare, one per shape to locate on.
+    meshes = sum(isinstance(f, tuple) for f in checked)
+    units = max(1, meshes + len(checked))
+    localizers: List[Localizer] = []
+    done = 0
+    for full in checked:
+        part = None
+        if isinstance(full, tuple):
+            part = _span(progress, done / units, (done + 1) / units)
+            done += 1
+        localizers.append(_prepared(full, options, part))
+    found = _dualspectra.search(pv, pf, [loc._native for loc in localizers], top, _span(progress, done / units, 1.0))
+    # The partial's notes once, not once per shape; each shape's own notes were given when it
+    # was prepared or loaded.
+    seen: Set[str] = set()
+    for m in found:
+        if m.localization is not None:
+            own = set(localizers[m.index].warnings)
+            fresh = [w for w in m.localization.warnings if w not in own and w not in seen]
+            seen.update(fresh)
+            _warn(fresh)
+    return found
 
 
 # The options' documentation is the core's table, not a copy.
@@ -400,3 +613,6 @@ def _count(value: Any, name: str) -> int:
     if i < 0:
         raise ValueError(f"{name} must be non-negative, got {i}")
     return i
+
+
+from .batch import BatchMatch, search_batch  # noqa: E402  (the batch module uses the names above)

@@ -17,7 +17,9 @@ __all__ = [
     "Candidate",
     "Localization",
     "Localizer",
+    "Match",
     "localize",
+    "search",
     "options_schema",
     "cotangent_stiffness",
     "lumped_mass",
@@ -106,6 +108,14 @@ class Localization:
         """How much to trust the region, in [0, 1]: the estimated probability that it overlaps
         the true region with IoU >= 0.5. Reject matches below a threshold of your choice."""
     @property
+    def similarity_score(self) -> float:
+        """How similar the partial is to this full shape, lower is more similar (``inf`` when
+        unknown, e.g. an empty region): the core's ``similarity_score_of``, the chosen
+        region's partial fit (the mean distance from the partial's SHOT descriptors to the
+        nearest descriptor in the region; docs/algorithm.md, "Searching several full shapes").
+        Dimensionless, computed at unit full-shape area: it compares across full shapes of
+        different size and meshing (:func:`search` ranks by it)."""
+    @property
     def selected_start(self) -> int:
         """Index of the selected start in ``candidates``."""
     @property
@@ -151,6 +161,33 @@ class Localizer:
     @property
     def preparation_seconds(self) -> float:
         """Seconds the preparation took."""
+    @property
+    def intake_note(self) -> Optional[str]:
+        """What the intake of the full mesh changed (``None``: nothing, or a loaded shape)."""
+    def save(self, path: str) -> None: ...
+    @staticmethod
+    def load(path: str, threads: Optional[int] = None) -> Localizer: ...
+    def to_bytes(self) -> bytes: ...
+    @staticmethod
+    def from_bytes(data: bytes, threads: Optional[int] = None, intake_note: Optional[str] = None) -> Localizer: ...
+
+@final
+class Match:
+    """One full shape's answer for a partial (:func:`dualspectra.search`)."""
+
+    @property
+    def index(self) -> int:
+        """Index of the full shape in the shapes searched."""
+    @property
+    def score(self) -> float:
+        """The similarity score (``Localization.similarity_score``), lower is more similar;
+        ``inf`` when the partial could not be located on this shape."""
+    @property
+    def localization(self) -> Optional[Localization]:
+        """The localization on this shape, indexed by its vertices (``None`` when it failed)."""
+    @property
+    def error(self) -> Optional[str]:
+        """Why the partial could not be located on this shape (``None`` when it was)."""
 
 def localize(
     full_vertices: NDArray[np.float64],
@@ -160,6 +197,13 @@ def localize(
     options: _Options = None,
     progress: _Progress = None,
 ) -> Localization: ...
+def search(
+    vertices: NDArray[np.float64],
+    faces: NDArray[np.int64],
+    fulls: List[Localizer],
+    top: Optional[int] = None,
+    progress: _Progress = None,
+) -> List[Match]: ...
 def options_schema() -> List[Dict[str, Any]]: ...
 def spectrum(
     vertices: NDArray[np.float64], faces: NDArray[np.int64], k: int, metric: str, alpha: float

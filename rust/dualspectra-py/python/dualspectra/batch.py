@@ -1,0 +1,243 @@
+"""Batches of searches: many partial shapes against a library of full shapes, in this process
+or on a Dask cluster (``dask.distributed``).
+
+The work is split per full shape: one task prepares a full shape once (or loads it, or
+receives it prepared) and locates on it every partial paired with it; the answers are then
+merged into one ranking per partial, by :attr:`~dualspectra.Localization.similarity_score`
+(lower is more similar), ties by the full shape's index, as :func:`dualspectra.search` ranks.
+Every number comes from the core; this module only distributes the calls and sorts.
+
+``client=None`` runs the tasks one after the other here, without importing Dask; a
+``dask.distributed.Client`` runs them on its workers (each needs the ``dualspectra`` wheel
+installed; full shapes given as paths must be readable there). Both give the same results:
+the core is deterministic (same inputs, options and seed, same region and score) whatever
+machine or process computes it.
+
+What travels: each partial once (``Client.scatter``); each full shape to its task, as
+arrays, as a path, or as a prepared :class:`~dualspectra.Localizer` (pickled as its
+``.dsprep`` bytes, :meth:`~dualspectra.Localizer.to_bytes`); back, plain :class:`BatchMatch`
+records (numbers, the region as a boolean array, strings).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Dict, Iterable, List, Optional, Sequence, Set, Tuple
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from . import (
+    Cancelled,
+    DualspectraWarning,
+    FullShape,
+    MeshError,
+    NumericalError,
+    OptionValue,
+    ProgressCallback,
+    _check_fulls,
+    _check_progress,
+    _count,
+    _mesh_pair,
+    _prepared,
+    _span,
+)
+
+if TYPE_CHECKING:
+    from distributed import Client
+
+__all__ = ["BatchMatch", "search_batch"]
+
+#: A partial as it travels to a task: its float64 vertices and int64 faces.
+_Mesh = Tuple[NDArray[np.float64], NDArray[np.int64]]
+
+
+@dataclass(frozen=True, eq=False)
+class BatchMatch:
+    """One full shape's answer for one partial, as plain data (picklable, no native object).
+
+    ``region`` is indexed by the full shape's vertices as given (as
+    :attr:`~dualspectra.Localization.region`); ``score`` is the similarity score, lower is
+    more similar. When the partial could not be located on the shape, ``score`` is ``inf``,
+    ``region``, ``confidence`` and ``cost`` are ``None`` and ``error`` says why.
+    """
+
+    #: Index of the partial in ``partials``.
+    partial: int
+    #: Index of the full shape in ``fulls``.
+    index: int
+    #: :attr:`~dualspectra.Localization.similarity_score` (``inf``: not located).
+    score: float
+    #: The matched region, one ``bool`` per vertex of the full shape.
+    region: Optional[NDArray[np.bool_]]
+    #: :attr:`~dualspectra.Localization.confidence`.
+    confidence: Optional[float]
+    #: :attr:`~dualspectra.Localization.cost`.
+    cost: Optional[float]
+    #: :attr:`~dualspectra.Localization.warnings`.
+    warnings: Tuple[str, ...]
+    #: Why the partial could not be located on the shape (``None`` when it was).
+    error: Optional[str]
+
+
+def _locate_on_full(
+    index: int,
+    full: FullShape,
+    partials: Sequence[Tuple[int, _Mesh]],
+    options: Dict[str, OptionValue],
+    progress: Optional[ProgressCallback] = None,
+) -> List[BatchMatch]:
+    """One task: prepare (or load) the full shape ``index`` once and locate every partial on it.
+
+    A partial the core cannot locate on this shape (``ValueError``, ``NumericalError``)
+    becomes a match with its ``error``; an invalid mesh (``MeshError``) or cancelling
+    raises. The library's warnings are kept in the matches, not emitted.
+    """
+    out: List[BatchMatch] = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DualspectraWarning)
+        localizer = _prepared(full, options)
+        for k, (i, (vertices, faces)) in enumerate(partials):
+            part = _span(progress, k / len(partials), (k + 1) / len(partials))
+            try:
+                found = localizer.locate(vertices, faces, progress=part)
+            except MeshError:
+                raise
+            except (ValueError, NumericalError) as exc:
+                out.append(BatchMatch(i, index, math.inf, None, None, None, (), f"{type(exc).__name__}: {exc}"))
+                continue
+            out.append(
+                BatchMatch(
+                    i, index, found.similarity_score, found.region, found.confidence, found.cost, found.warnings, None
+                )
+            )
+    return out
+
+
+def _tasks(n_partials: int, n_fulls: int, pairs: Optional[Iterable[Tuple[int, int]]]) -> Dict[int, List[int]]:
+    """``{full index: [partial indices]}``, in increasing order, from the pairs (all if ``None``)."""
+    if pairs is None:
+        return {j: list(range(n_partials)) for j in range(n_fulls)} if n_partials else {}
+    tasks: Dict[int, Set[int]] = {}
+    for pair in pairs:
+        try:
+            i, j = (_count(x, "a pair's index") for x in pair)
+        except ValueError:
+            raise ValueError(f"pairs: {pair!r} is not a (partial index, full index) pair") from None
+        if i >= n_partials or j >= n_fulls:
+            raise ValueError(f"pairs: {(i, j)} is out of range ({n_partials} partials, {n_fulls} full shapes)")
+        tasks.setdefault(j, set()).add(i)
+    return {j: sorted(tasks[j]) for j in sorted(tasks)}
+
+
+def search_batch(
+    partials: Sequence[Tuple[ArrayLike, ArrayLike]],
+    fulls: Sequence[FullShape],
+    *,
+    top: Optional[int] = None,
+    pairs: Optional[Iterable[Tuple[int, int]]] = None,
+    client: Optional[Client] = None,
+    progress: Optional[ProgressCallback] = None,
+    **options: OptionValue,
+) -> List[List[BatchMatch]]:
+    """Rank the full shapes for each partial shape (:func:`dualspectra.search` for many
+    partials), split per full shape: each full shape is prepared once.
+
+    Args:
+        partials: the partial shapes, ``(vertices, faces)`` each.
+        fulls: the full shapes, as for :func:`dualspectra.search`: prepared
+            :class:`~dualspectra.Localizer` objects (pickled to the workers), meshes
+            ``(vertices, faces)`` (prepared by the task, with ``options``) or paths of
+            prepared shapes (``.dsprep``, loaded by the task: give paths the workers can read).
+        top: keep the ``top`` best matches per partial (default: all).
+        pairs: compute only these ``(partial index, full index)`` pairs (default: every
+            partial against every full shape); a partial is then ranked among its pairs.
+        client: a ``dask.distributed.Client`` to run the tasks on (one per full shape);
+            ``None``: run them here, one after the other (Dask is not imported).
+        progress: optional ``callback(fraction, stage)``, called here; returning ``False``
+            cancels (on a cluster: the tasks not yet finished are cancelled). With a client
+            it is called as tasks finish.
+        **options: the core's options by name, for the meshes of ``fulls`` (``threads`` also
+            for the paths), as for :func:`dualspectra.search`.
+
+    Returns:
+        ``rankings[i]``: partial ``i``'s :class:`BatchMatch` list, best first (ties by full
+        shape index), at most ``top`` long. A partial that cannot be located on a shape
+        has a match with ``score = inf`` and its ``error`` there (unlike
+        :func:`dualspectra.search`, the batch does not raise when that is every shape).
+
+    Raises:
+        MeshError: a mesh cannot be used, or a prepared-shape file cannot be loaded.
+        Cancelled: the callback returned ``False``. ValueError: an option or a pair is
+        invalid. With a client, an exception raised in a task is raised here.
+    """
+    _check_progress(progress)
+    meshes: List[_Mesh] = [_mesh_pair(p, f"partial {i}") for i, p in enumerate(partials)]
+    checked = _check_fulls(fulls, options)
+    if top is not None:
+        top = _count(top, "top")
+    tasks = _tasks(len(meshes), len(checked), pairs)
+    if client is None:
+        results = _run_here(tasks, checked, meshes, options, progress)
+    else:
+        results = _run_on(client, tasks, checked, meshes, options, progress)
+    rankings: List[List[BatchMatch]] = [[] for _ in meshes]
+    for matches in results:
+        for m in matches:
+            rankings[m.partial].append(m)
+    return [sorted(r, key=lambda m: (m.score, m.index))[:top] for r in rankings]
+
+
+def _run_here(
+    tasks: Dict[int, List[int]],
+    fulls: List[FullShape],
+    meshes: List[_Mesh],
+    options: Dict[str, OptionValue],
+    progress: Optional[ProgressCallback],
+) -> List[List[BatchMatch]]:
+    """The tasks in this process, one after the other."""
+    results = []
+    for t, (j, wanted) in enumerate(tasks.items()):
+        part = _span(progress, t / len(tasks), (t + 1) / len(tasks))
+        results.append(_locate_on_full(j, fulls[j], [(i, meshes[i]) for i in wanted], options, part))
+    return results
+
+
+def _run_on(
+    client: Client,
+    tasks: Dict[int, List[int]],
+    fulls: List[FullShape],
+    meshes: List[_Mesh],
+    options: Dict[str, OptionValue],
+    progress: Optional[ProgressCallback],
+) -> List[List[BatchMatch]]:
+    """The tasks on a Dask cluster, one per full shape; the partials are scattered once."""
+    from distributed import as_completed
+
+    if not tasks:
+        return []
+    needed = sorted({i for wanted in tasks.values() for i in wanted})
+    scattered = dict(zip(needed, client.scatter([meshes[i] for i in needed])))  # type: ignore[no-untyped-call, unused-ignore]
+    futures = [
+        client.submit(
+            _locate_on_full,
+            j,
+            fulls[j],
+            [(i, scattered[i]) for i in wanted],
+            options,
+            pure=False,
+        )
+        for j, wanted in tasks.items()
+    ]
+    try:
+        for done, future in enumerate(as_completed(futures), start=1):  # type: ignore[no-untyped-call, unused-ignore]
+            if future.status == "error":
+                future.result()  # raises the task's exception here
+            if progress is not None and progress(done / len(futures), "searched a full shape") is False:
+                raise Cancelled("cancelled by the progress callback")
+        return [future.result() for future in futures]
+    finally:
+        client.cancel(futures)  # type: ignore[no-untyped-call, unused-ignore]
+        client.cancel(list(scattered.values()))  # type: ignore[no-untyped-call, unused-ignore]

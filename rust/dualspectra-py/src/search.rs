@@ -1,0 +1,64 @@
+//! Partial shape similarity: `search` ranks prepared full shapes for one partial
+//! (`dualspectra::search`), each answer a `Match`.
+//!
+//! The partial enters through the core's `MeshIntake`; every match's localization leaves
+//! through its full shape's numbering, as `Localizer.locate`'s does.
+
+use crate::convert::intake;
+use crate::localization::{check_callable, with_progress, Localization, Localizer};
+use numpy::PyReadonlyArray2;
+use pyo3::prelude::*;
+
+/// One full shape's answer for a partial: its index in the shapes searched, the similarity
+/// score (lower is more similar; `inf` when the partial could not be located on it), the
+/// localization (`None` then) and why it failed.
+#[pyclass(frozen, module = "dualspectra", name = "Match")]
+pub struct Match {
+    #[pyo3(get)]
+    index: usize,
+    #[pyo3(get)]
+    score: f64,
+    #[pyo3(get)]
+    localization: Option<Py<Localization>>,
+    #[pyo3(get)]
+    error: Option<String>,
+}
+
+#[pymethods]
+impl Match {
+    fn __repr__(&self) -> String {
+        match (&self.localization, &self.error) {
+            (Some(l), _) => format!("Match(index={}, score={:.6e}, localization={})", self.index, self.score, l.get().__repr__()),
+            (None, e) => format!("Match(index={}, score={}, error={:?})", self.index, self.score, e.as_deref().unwrap_or("")),
+        }
+    }
+}
+
+/// Native `search`: locate the partial `(vertices, faces)` on every prepared shape of `fulls`
+/// and return the `top` best matches (all when `None`), best first (`dualspectra::search`).
+#[pyfunction]
+#[pyo3(signature = (vertices, faces, fulls, top=None, progress=None))]
+pub fn search(
+    py: Python<'_>,
+    vertices: PyReadonlyArray2<'_, f64>,
+    faces: PyReadonlyArray2<'_, i64>,
+    fulls: Vec<Py<Localizer>>,
+    top: Option<usize>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Vec<Match>> {
+    check_callable(py, &progress)?;
+    let partial = intake("partial mesh", &vertices, &faces)?;
+    let shapes: Vec<&dualspectra::Localizer> = fulls.iter().map(|f| &f.get().inner).collect();
+    let found = with_progress(py, progress, |p| dualspectra::search(&partial.mesh, &shapes, top.unwrap_or(usize::MAX), p))?;
+    found
+        .into_iter()
+        .map(|m| {
+            let full = fulls[m.index].get();
+            let localization = m
+                .localization
+                .map(|l| Localization::new(py, l, &full.host, full.notes_for(&partial)).and_then(|l| Py::new(py, l)))
+                .transpose()?;
+            Ok(Match { index: m.index, score: m.score, localization, error: m.error })
+        })
+        .collect()
+}
