@@ -18,7 +18,7 @@ MeshModel* otherLayer(MeshDocument& md, MeshModel* notThis)
 
 FilterDualSpectraPlugin::FilterDualSpectraPlugin()
 {
-    typeList << FP_LOCALIZE_PARTIAL;
+    typeList << FP_LOCALIZE_PARTIAL << FP_RANK_LAYERS;
     for (FilterIDType tt : types())
         actionList << new QAction(filterName(tt), this);
 }
@@ -30,12 +30,20 @@ QString FilterDualSpectraPlugin::pluginName() const
 
 QString FilterDualSpectraPlugin::filterName(FilterIDType filterId) const
 {
-    return filterId == FP_LOCALIZE_PARTIAL ? dsml::filter_name() : QString();
+    switch (filterId) {
+    case FP_LOCALIZE_PARTIAL: return dsml::filter_name();
+    case FP_RANK_LAYERS: return dsml::search_filter_name();
+    default: return QString();
+    }
 }
 
 QString FilterDualSpectraPlugin::filterInfo(FilterIDType filterId) const
 {
-    return filterId == FP_LOCALIZE_PARTIAL ? dsml::filter_info() : QString();
+    switch (filterId) {
+    case FP_LOCALIZE_PARTIAL: return dsml::filter_info();
+    case FP_RANK_LAYERS: return dsml::search_filter_info();
+    default: return QString();
+    }
 }
 
 MeshFilterInterface::FilterClass FilterDualSpectraPlugin::getClass(QAction*)
@@ -43,9 +51,11 @@ MeshFilterInterface::FilterClass FilterDualSpectraPlugin::getClass(QAction*)
     return MeshFilterInterface::Selection;
 }
 
-MeshFilterInterface::FILTER_ARITY FilterDualSpectraPlugin::filterArity(QAction*) const
+MeshFilterInterface::FILTER_ARITY FilterDualSpectraPlugin::filterArity(QAction* a) const
 {
-    return FIXED; // the two layers are chosen by the "FullMesh" and "PartialMesh" parameters
+    // localize: the two layers are chosen by the "FullMesh" and "PartialMesh" parameters;
+    // rank: every visible layer besides "PartialMesh"
+    return ID(a) == FP_RANK_LAYERS ? VARIABLE : FIXED;
 }
 
 int FilterDualSpectraPlugin::getPreConditions(QAction*) const
@@ -53,18 +63,25 @@ int FilterDualSpectraPlugin::getPreConditions(QAction*) const
     return MeshModel::MM_NONE; // the chosen layers (not the current one) are checked in applyFilter
 }
 
-int FilterDualSpectraPlugin::postCondition(QAction*) const
+int FilterDualSpectraPlugin::postCondition(QAction* a) const
 {
-    return MeshModel::MM_VERTFLAGSELECT | MeshModel::MM_FACEFLAGSELECT | MeshModel::MM_VERTQUALITY |
-           MeshModel::MM_VERTCOLOR;
+    const int selection = MeshModel::MM_VERTFLAGSELECT | MeshModel::MM_FACEFLAGSELECT;
+    return ID(a) == FP_RANK_LAYERS ? selection : selection | MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR;
 }
 
 void FilterDualSpectraPlugin::initParameterSet(QAction* action, MeshDocument& md, RichParameterList& par)
 {
-    if (ID(action) != FP_LOCALIZE_PARTIAL) return;
     MeshModel* full = md.mm();
     // RichMesh asserts (active in Debian's build) that a non-null default is in the document.
     MeshDocument* doc = (full != nullptr && md.meshList.contains(full)) ? &md : nullptr;
+    if (ID(action) == FP_RANK_LAYERS) {
+        // Default: the current layer is the partial one.
+        par.addParam(RichMesh("PartialMesh", doc ? full : nullptr, doc, dsml::partial_mesh_label(),
+                              dsml::search_partial_mesh_tooltip()));
+        dsml::add_option_parameters(par);
+        return;
+    }
+    if (ID(action) != FP_LOCALIZE_PARTIAL) return;
     par.addParam(RichMesh("FullMesh", doc ? full : nullptr, doc, dsml::full_mesh_label(), dsml::full_mesh_tooltip()));
     par.addParam(RichMesh("PartialMesh", doc ? otherLayer(md, full) : nullptr, doc, dsml::partial_mesh_label(),
                           dsml::partial_mesh_tooltip()));
@@ -72,29 +89,40 @@ void FilterDualSpectraPlugin::initParameterSet(QAction* action, MeshDocument& md
     par.addParam(RichBool("WriteScore", false, dsml::write_score_label(), dsml::write_score_tooltip()));
 }
 
-bool FilterDualSpectraPlugin::applyFilter(QAction* action, MeshDocument& /*md*/, const RichParameterList& par,
+bool FilterDualSpectraPlugin::applyFilter(QAction* action, MeshDocument& md, const RichParameterList& par,
                                           vcg::CallBackPos* cb)
 {
-    if (ID(action) != FP_LOCALIZE_PARTIAL) return fail("unknown filter");
+    const int filter = ID(action);
+    const QString prefix = filter == FP_RANK_LAYERS ? "Rank layers: " : "Localize partial shape: ";
+    if (filter != FP_LOCALIZE_PARTIAL && filter != FP_RANK_LAYERS) return fail(prefix, "unknown filter");
     QString error;
     const dsml::OptionsPtr options = dsml::options_from_parameters(par, error);
-    if (!options) return fail(error);
+    if (!options) return fail(prefix, error);
+    auto log = [this](bool warning, const QString& line) { logLine(warning, line); };
+    if (filter == FP_RANK_LAYERS) {
+        const std::vector<MeshModel*> layers(md.meshList.begin(), md.meshList.end());
+        const auto done = dsml::rank_layers(localizers, layers, par.getMesh("PartialMesh"), options.get(), cb, log);
+        return done.error.isEmpty() || fail(prefix, done.error);
+    }
     const dsml::LayersLocalized done = dsml::localize_layers(
         localizers, par.getMesh("FullMesh"), par.getMesh("PartialMesh"), options.get(), par.getBool("WriteScore"), cb,
-        [this](bool warning, const QString& line) {
-            if (warning)
-                Log(GLLogStream::WARNING, "%s", qUtf8Printable(line));
-            else
-                Log("%s", qUtf8Printable(line));
-        });
-    return done.error.isEmpty() || fail(done.error);
+        log);
+    return done.error.isEmpty() || fail(prefix, done.error);
 }
 
-bool FilterDualSpectraPlugin::fail(const QString& message)
+bool FilterDualSpectraPlugin::fail(const QString& prefix, const QString& message)
 {
-    errorMessage = "Localize partial shape: " + message;
+    errorMessage = prefix + message;
     Log(GLLogStream::WARNING, "%s", qUtf8Printable(errorMessage));
     return false;
+}
+
+void FilterDualSpectraPlugin::logLine(bool warning, const QString& line)
+{
+    if (warning)
+        Log(GLLogStream::WARNING, "%s", qUtf8Printable(line));
+    else
+        Log("%s", qUtf8Printable(line));
 }
 
 MESHLAB_PLUGIN_NAME_EXPORTER(FilterDualSpectraPlugin)

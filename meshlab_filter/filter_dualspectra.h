@@ -1,8 +1,10 @@
-// MeshLab 2020.09 filter plugin (MeshFilterInterface): "Localize partial shape (dual spectra)".
-// Selects, on a full mesh layer, the region that a partial (possibly deformed) mesh layer is.
-// Only the 2020.09 interface is here: the parameters from the library's option table are
-// option_parameters.h, the localization between two layers localize_layers.h, shared with the
-// MeshLab 2025.07 plugin (filter_dualspectra_2025.h).
+// MeshLab 2020.09 filter plugin (MeshFilterInterface): "Localize partial shape (dual spectra)"
+// selects, on a full mesh layer, the region that a partial (possibly deformed) mesh layer is;
+// "Rank layers by partial similarity (dual spectra)" ranks the other visible layers for a
+// partial layer and selects the region on the best. Only the 2020.09 interface is here: the
+// parameters from the library's option table are option_parameters.h, the localization and
+// the ranking localize_layers.h, shared with the MeshLab 2025.07 plugin
+// (filter_dualspectra_2025.h).
 #ifndef DUALSPECTRA_MESHLAB_FILTER_H
 #define DUALSPECTRA_MESHLAB_FILTER_H
 
@@ -17,7 +19,7 @@ class FilterDualSpectraPlugin : public QObject, public MeshFilterInterface
     Q_INTERFACES(MeshFilterInterface)
 
 public:
-    enum { FP_LOCALIZE_PARTIAL };
+    enum { FP_LOCALIZE_PARTIAL, FP_RANK_LAYERS };
 
     FilterDualSpectraPlugin();
 
@@ -32,9 +34,11 @@ public:
     bool applyFilter(QAction* a, MeshDocument& md, const RichParameterList& par, vcg::CallBackPos* cb) override;
 
 private:
-    /// False, with `errorMessage` set and the same text logged as a warning (meshlabserver
-    /// prints the log, not errorMessage).
-    bool fail(const QString& message);
+    /// False, with `errorMessage` set (prefixed with the filter's name) and the same text
+    /// logged as a warning (meshlabserver prints the log, not errorMessage).
+    bool fail(const QString& prefix, const QString& message);
+    /// A log line of the shared code: a warning or a filter line.
+    void logLine(bool warning, const QString& line);
 
     /// Prepared full shapes, kept per full layer between calls (see dsml::LocalizerCache).
     dsml::LocalizerCache localizers;

@@ -1,7 +1,9 @@
 // MeshLab 2025.07 filter plugin (FilterPlugin): "Localize partial shape (dual spectra)", also
-// the PyMeshLab filter `dualspectra_localize`. Selects, on a full mesh layer, the region that a
-// partial (possibly deformed) mesh layer is. Only the 2025.07 interface is here: the parameters
-// from the library's option table are option_parameters.h, the localization between two layers
+// the PyMeshLab filter `dualspectra_localize`, selects, on a full mesh layer, the region that a
+// partial (possibly deformed) mesh layer is; "Rank layers by partial similarity (dual
+// spectra)", `dualspectra_search`, ranks the other visible layers for a partial layer and
+// selects the region on the best. Only the 2025.07 interface is here: the parameters from the
+// library's option table are option_parameters.h, the localization and the ranking
 // localize_layers.h, shared with the MeshLab 2020.09 plugin (filter_dualspectra.h).
 #ifndef DUALSPECTRA_MESHLAB_FILTER_2025_H
 #define DUALSPECTRA_MESHLAB_FILTER_2025_H
@@ -17,7 +19,7 @@ class FilterDualSpectraPlugin : public QObject, public FilterPlugin
     Q_INTERFACES(FilterPlugin)
 
 public:
-    enum { FP_LOCALIZE_PARTIAL };
+    enum { FP_LOCALIZE_PARTIAL, FP_RANK_LAYERS };
 
     FilterDualSpectraPlugin();
 
@@ -31,13 +33,20 @@ public:
     int getPreConditions(const QAction* a) const override;
     int postCondition(const QAction* a) const override;
     RichParameterList initParameterList(const QAction* a, const MeshDocument& md) override;
-    /// Returns the result's numbers (PyMeshLab's dict): selected_vertices, selected_faces,
-    /// confidence, cost, seconds, reused, warnings. Throws MLException, changing nothing, when
-    /// the layers or an option cannot be used (the library's message).
+    /// Returns the result's numbers (PyMeshLab's dict). Localize: selected_vertices,
+    /// selected_faces, confidence, cost, seconds, reused, warnings. Rank: best_layer (its id),
+    /// score, confidence, selected_vertices, selected_faces, ranked (layers ranked), prepared,
+    /// seconds. Throws MLException, changing nothing, when the layers or an option cannot be
+    /// used (the library's message).
     std::map<std::string, QVariant> applyFilter(const QAction* a, const RichParameterList& par, MeshDocument& md,
                                                 unsigned int& postConditionMask, vcg::CallBackPos* cb) override;
 
 private:
+    std::map<std::string, QVariant> localize(const RichParameterList& par, MeshDocument& md,
+                                             unsigned int& postConditionMask, vcg::CallBackPos* cb);
+    std::map<std::string, QVariant> rank(const RichParameterList& par, MeshDocument& md,
+                                         unsigned int& postConditionMask, vcg::CallBackPos* cb);
+
     /// Prepared full shapes, kept per full layer between calls (see dsml::LocalizerCache).
     dsml::LocalizerCache localizers;
 };

@@ -1,7 +1,8 @@
-// The dualspectra C ABI calls of one localization for two packed layers, with MeshLab's
-// progress callback (`vcg::CallBackPos`) driven from the caller's thread, and the prepared
-// full shapes (`ds_localizer`) kept between calls. No MeshLab plugin interface types here:
-// this file is the same for MeshLab 2020.09 and 2022+.
+// The dualspectra C ABI calls of one localization for two packed layers, and of one ranking
+// of several full layers for a partial one, with MeshLab's progress callback
+// (`vcg::CallBackPos`) driven from the caller's thread, and the prepared full shapes
+// (`ds_localizer`) kept between calls. No MeshLab plugin interface types here: this file is
+// the same for MeshLab 2020.09 and 2022+.
 #ifndef DUALSPECTRA_MESHLAB_LOCALIZE_JOB_H
 #define DUALSPECTRA_MESHLAB_LOCALIZE_JOB_H
 
@@ -22,11 +23,12 @@ namespace dsml {
 
 /// The prepared full shapes, one per full layer, each kept while the layer's geometry and the
 /// options are those it was prepared for (its key: vertex and face counts, a hash of the
-/// coordinates and faces, and the options' JSON), so that locating several parts on one model
-/// prepares it once. At most `capacity` layers are kept (the least recently used goes).
+/// coordinates and faces, and the options' JSON), so that locating several parts on one model,
+/// or ranking a library of layers again, prepares each once. At most `capacity` layers are
+/// kept (the least recently used goes).
 class LocalizerCache {
 public:
-    explicit LocalizerCache(size_t capacity = 4) : capacity_(capacity) {}
+    explicit LocalizerCache(size_t capacity = 16) : capacity_(capacity) {}
 
     using Localizer = std::shared_ptr<ds_localizer>;
 
@@ -72,6 +74,39 @@ struct LocalizeOutcome {
 /// failure is reported in the outcome.
 LocalizeOutcome run_localize(LocalizerCache& cache, int full_layer, const PackedLayer& full, const PackedLayer& partial,
                              const ds_options* options, vcg::CallBackPos* cb);
+
+/// A full layer to rank: its id (the cache's key), its name (for messages) and its arrays.
+struct SearchLayer {
+    int id = 0;
+    std::string name;
+    const PackedLayer* arrays = nullptr;
+};
+
+/// One ranked layer of `run_search`.
+struct RankedLayer {
+    size_t layer = 0;         ///< position in the layers given
+    double score = 0.0;       ///< similarity score, lower is more similar; +inf when not located
+    double confidence = 0.0;  ///< of the region on that layer, in [0, 1] (0 when not located)
+    std::string error;        ///< why the partial could not be located on it ("" if it was)
+};
+
+/// What `run_search` returns. `status == DS_OK` on success; otherwise `error` says why.
+struct SearchOutcome {
+    ds_status status = DS_OK;
+    std::string error;
+    std::vector<RankedLayer> ranking;  ///< every layer given, best first
+    std::vector<uint8_t> region;       ///< per packed vertex of the best layer: 1 = in the region
+    std::vector<std::string> warnings; ///< the library's notes on the best layer's result
+    size_t prepared = 0;               ///< layers prepared by this call (the others were kept)
+    double preparation_seconds = 0.0;  ///< preparing them
+    double seconds = 0.0;              ///< the whole call
+};
+
+/// Rank `fulls` for `partial` with `options` (`ds_search`), on a worker thread, with the
+/// progress forwarded to `cb` as `run_localize` does. Each full layer is prepared unless
+/// `cache` holds it for the same geometry and options (then kept there). Never throws.
+SearchOutcome run_search(LocalizerCache& cache, const std::vector<SearchLayer>& fulls, const PackedLayer& partial,
+                         const ds_options* options, vcg::CallBackPos* cb);
 
 } // namespace dsml
 

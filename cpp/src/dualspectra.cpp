@@ -19,6 +19,9 @@ static_assert(static_cast<std::int32_t>(Status::Numerical) == DS_NUMERICAL, "Sta
 static_assert(static_cast<std::int32_t>(Status::Cancelled) == DS_CANCELLED, "Status mirrors ds_status");
 static_assert(static_cast<std::int32_t>(Status::Panic) == DS_PANIC, "Status mirrors ds_status");
 static_assert(static_cast<std::int32_t>(Status::Io) == DS_IO, "Status mirrors ds_status");
+static_assert(static_cast<std::int32_t>(Status::OutOfMemory) == DS_OUT_OF_MEMORY, "Status mirrors ds_status");
+static_assert(static_cast<std::int32_t>(Status::InvalidPreparedShape) == DS_INVALID_PREPARED_SHAPE,
+              "Status mirrors ds_status");
 static_assert(static_cast<std::uint32_t>(Metric::Regular) == DS_METRIC_REGULAR, "Metric mirrors ds_metric");
 static_assert(static_cast<std::uint32_t>(Metric::ScaleInvariant) == DS_METRIC_SCALE_INVARIANT, "Metric mirrors ds_metric");
 static_assert(sizeof(Timings) == sizeof(ds_timings) && std::is_standard_layout<Timings>::value, "Timings mirrors ds_timings");
@@ -57,6 +60,11 @@ auto with_progress(const detail::ProgressSink& sink, F&& f) -> decltype(f()) {
 std::vector<double> to_std(const rust::Vec<double>& v) { return std::vector<double>(v.begin(), v.end()); }
 
 rust::Str str_of(std::string_view s) { return rust::Str(s.data(), s.size()); }
+
+// The bytes of a file name (any bytes: the Rust side takes them as the OS does).
+rust::Slice<const std::uint8_t> bytes_of(const std::string& s) {
+  return rust::Slice<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(s.data()), s.size());
+}
 
 // The flat arrays as bridge slices, checked for sizes (rust::Slice needs a non-null pointer
 // even when empty).
@@ -98,6 +106,7 @@ Localization to_localization(const detail::LocalizationData& d) {
   r.target_si = to_std(d.target_si);
   r.cost = d.cost;
   r.confidence = d.confidence;
+  r.similarity_score = d.similarity_score;
   r.selected_start = d.selected_start;
   r.n_starts = d.n_starts;
   r.timings = d.timings;
@@ -257,6 +266,47 @@ std::vector<std::string> Localizer::warnings() const {
 }
 
 Options Localizer::options() const { return Options(data_->options()); }
+
+Localizer Localizer::load(const std::string& path) {
+  return Localizer(translated([&] { return detail::localizer_load(bytes_of(path)); }));
+}
+
+void Localizer::save(const std::string& path) const {
+  translated([&] { detail::localizer_save(*data_, bytes_of(path)); });
+}
+
+std::vector<Match> search(const Mesh& partial, const std::vector<const Localizer*>& localizers, std::size_t top,
+                          const ProgressCallback& progress) {
+  rust::Box<detail::LocalizerList> list = detail::localizer_list_new();
+  for (std::size_t i = 0; i < localizers.size(); ++i) {
+    if (localizers[i] == nullptr)
+      throw Error(Status::InvalidArgument, "localizers[" + std::to_string(i) + "] is null");
+    list->push(localizers[i]->data());
+  }
+  const detail::ProgressSink sink(progress);
+  const rust::Vec<detail::MatchData> found =
+      with_progress(sink, [&] { return detail::search(partial.data(), *list, top, sink); });
+  std::vector<Match> out;
+  out.reserve(found.size());
+  for (const detail::MatchData& d : found) {
+    Match m;
+    m.index = d.index;
+    m.score = d.score;
+    m.located = d.located;
+    if (d.located) m.localization = to_localization(d.localization);
+    m.error = std::string(d.error);
+    out.push_back(std::move(m));
+  }
+  return out;
+}
+
+std::vector<Match> search(const Mesh& partial, const std::vector<Localizer>& localizers, std::size_t top,
+                          const ProgressCallback& progress) {
+  std::vector<const Localizer*> pointers;
+  pointers.reserve(localizers.size());
+  for (const Localizer& l : localizers) pointers.push_back(&l);
+  return search(partial, pointers, top, progress);
+}
 
 Localization localize(const Mesh& full, const Mesh& partial, const Options& options, const ProgressCallback& progress) {
   const detail::ProgressSink sink(progress);

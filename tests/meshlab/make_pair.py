@@ -13,7 +13,10 @@ vertex, and a zero-area triangle on three more vertices, all after the full mesh
 points.off (the part's vertices without faces: a point cloud), for an error path;
 fin.off, partial.off with a fin (one more triangle, on a new vertex, on an edge inside the
 part: three triangles on that edge), which the library's intake splits off, leaving the part
-as it was; and closed.off (an octahedron: no boundary), which no intake can make a part.
+as it was; closed.off (an octahedron: no boundary), which no intake can make a part; and two
+other models for a library in which full.off is the one partial.off was cut from:
+other_ellipsoid.off (the icosphere stretched to an ellipsoid) and other_bumps.off (the
+icosphere with other bumps than full.off's).
 """
 
 import argparse
@@ -59,6 +62,8 @@ def dot(a, b):
 
 # (centre direction, height, width): three distinct bumps make the shape asymmetric.
 BUMPS = [((1.0, 0.2, 0.3), 0.45, 0.35), ((-0.3, 1.0, -0.2), 0.25, 0.5), ((0.1, -0.4, -1.0), 0.6, 0.25)]
+# The bumps of other_bumps.off: other places, heights and widths.
+OTHER_BUMPS = [((-1.0, -0.3, 0.4), 0.6, 0.3), ((0.2, 0.9, 0.6), 0.3, 0.45), ((0.5, -0.6, -0.8), 0.2, 0.6)]
 # The cutting planes: keep points p with dot(p, normal) > offset.
 PLANE_NORMAL = normalize((1.0, 0.35, 0.25))
 PLANE_OFFSET = 0.3
@@ -68,11 +73,11 @@ PLANE2_OFFSET = 0.25
 DEBRIS = [(5.0, 5.0, 5.0), (4.0, 0.0, 0.0), (4.5, 0.0, 0.0), (5.0, 0.0, 0.0)]
 
 
-def bumpy(verts):
+def bumpy(verts, bumps=BUMPS):
     out = []
     for v in verts:
         r = 1.0
-        for c, h, w in BUMPS:
+        for c, h, w in bumps:
             d2 = sum((x - y) ** 2 for x, y in zip(v, normalize(c)))
             r += h * math.exp(-d2 / (w * w))
         out.append(tuple(r * x for x in v))
@@ -147,6 +152,8 @@ def main():
     part_points = [rigid(full[i]) for i in region]
     write_off(os.path.join(args.out, "points.off"), part_points, [])
     write_fin(os.path.join(args.out, "fin.off"), full, region, kept)
+    write_off(os.path.join(args.out, "other_ellipsoid.off"), [(1.5 * x, 0.9 * y, 0.75 * z) for x, y, z in sphere], faces)
+    write_off(os.path.join(args.out, "other_bumps.off"), bumpy(sphere, OTHER_BUMPS), faces)
     write_off(os.path.join(args.out, "closed.off"),
               [(0.3, 0, 0), (-0.3, 0, 0), (0, 0.3, 0), (0, -0.3, 0), (0, 0, 0.3), (0, 0, -0.3)],
               [(0, 2, 4), (2, 1, 4), (1, 3, 4), (3, 0, 4), (2, 0, 5), (1, 2, 5), (3, 1, 5), (0, 3, 5)])

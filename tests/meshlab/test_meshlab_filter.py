@@ -17,8 +17,9 @@ WriteScore. `--write-script PATH` writes the example script meshlab_filter/local
 
 Cases (each one meshlabserver run):
   parameters   `meshlabserver -d` lists the filter's parameters: the two meshes, one per option of
-               the table (type and label), WriteScore; and meshlab_filter/localize.mlx is the
-               script of the defaults (else regenerate it with --write-script).
+               the table (type and label), WriteScore, and the ranking filter's: the partial
+               mesh and the options; and meshlab_filter/localize.mlx is the script of the
+               defaults (else regenerate it with --write-script).
   region       one script, two filter calls on the same full layer (a full mesh with a loose
                vertex and a zero-area face): partial2, then partial; the first call prepares the
                full shape, the second reuses it (the log says both, and each result's
@@ -38,6 +39,11 @@ Cases (each one meshlabserver run):
                `region`.
   bad-mesh     a closed partial layer (an octahedron: no boundary), which the library refuses:
                its message reaches the log, no crash.
+  rank         the ranking filter on a library of three layers (full.off among two other
+               models) for partial.off, with light options (k, 2 start centres): the log ranks
+               full.off first (a line per layer, with its score and confidence), and the saved
+               full layer's selection overlaps partial's known region (IoU >= 0.5; the
+               region's quality is the other cases' business).
   readme       the headless command line of meshlab_filter/README.md, run as written there (read
                from the README: the one line of its sh blocks that runs meshlabserver), in a
                directory holding full.off, partial.off and meshlab_filter/localize.mlx: it must
@@ -64,6 +70,7 @@ sys.path.insert(0, HERE)
 from read_selection import read_selected  # noqa: E402
 
 FILTER = "Localize partial shape (dual spectra)"
+SEARCH = "Rank layers by partial similarity (dual spectra)"
 REPO = os.path.dirname(os.path.dirname(HERE))
 SHIPPED_SCRIPT = os.path.join(REPO, "meshlab_filter", "localize.mlx")
 README = os.path.join(REPO, "meshlab_filter", "README.md")
@@ -104,6 +111,14 @@ def filter_call(schema, full, partial, write_score=False, **options):
     lines += ['  <Param type="RichBool" value="%s" name="WriteScore"/>' % ("true" if write_score else "false"),
               " </filter>"]
     return lines
+
+
+def rank_call(schema, partial, **options):
+    """One call of the ranking filter: PartialMesh, then every option (the library's defaults
+    for those not given)."""
+    lines = [' <filter name="%s">' % SEARCH, '  <Param type="RichMesh" value="%d" name="PartialMesh"/>' % partial]
+    lines += [option_param(s, options.get(s["name"], s["default"])) for s in schema]
+    return lines + [" </filter>"]
 
 
 def mlx(*calls):
@@ -160,8 +175,9 @@ def make_prefix(root, plugin, meshlabserver, system_lib_dir):
     return server, plugin_dir
 
 
-def run_server(server, work, name, meshes, script_text, save_mask=None, timeout=120):
-    """Run meshlabserver on `meshes` with the script; return (exit status, log text, output path)."""
+def run_server(server, work, name, meshes, script_text, save_mask=None, timeout=120, save_layer=None):
+    """Run meshlabserver on `meshes` with the script; return (exit status, log text, output path).
+    The output is the current layer, or the layer at position `save_layer`."""
     script = os.path.join(work, name + ".mlx")
     with open(script, "w") as f:
         f.write(script_text)
@@ -174,7 +190,7 @@ def run_server(server, work, name, meshes, script_text, save_mask=None, timeout=
     out = None
     if save_mask is not None:
         out = os.path.join(work, name + ".ply")
-        cmd += ["-o", out, "-m"] + save_mask
+        cmd += ["-o", out] + (["-l", str(save_layer)] if save_layer is not None else []) + ["-m"] + save_mask
     start = time.time()
     # own process group: on timeout, kill meshlabserver and Xvfb too, not only xvfb-run
     proc = subprocess.Popen(cmd, cwd=work, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, start_new_session=True)
@@ -185,7 +201,7 @@ def run_server(server, work, name, meshes, script_text, save_mask=None, timeout=
         stdout, _ = proc.communicate()
         stdout += b"\nTIMEOUT: meshlabserver killed after %d s\n" % timeout
     text = stdout.decode("utf-8", errors="replace").replace("\r", "\n")
-    text = text.replace("Localize partial shape: ", "\nLocalize partial shape: ")
+    text = text.replace("Localize partial shape: ", "\nLocalize partial shape: ").replace("Rank layers: ", "\nRank layers: ")
     if os.path.exists(log_path):
         with open(log_path, encoding="utf-8", errors="replace") as f:
             text += "\n" + f.read()
@@ -309,18 +325,25 @@ def main():
             dump = os.path.join(work, "filters.txt")
             cmd = ["xvfb-run", "-a", server, "-d", dump]
             proc = subprocess.run(cmd, cwd=work, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=120)
-            rows = []
+            rows, search_rows = [], []
             if os.path.exists(dump):
                 with open(dump, encoding="utf-8", errors="replace") as f:
                     text = f.read()
-                section = text.split("%s \n" % FILTER, 1)[1].split("\\section", 1)[0] if FILTER + " \n" in text else ""
-                rows = re.findall(r"<TR><TD> \\c (\w+)\s*</TD> <TD> (.*?) </TD>", section)
+
+                def parameter_rows(name):
+                    section = text.split("%s \n" % name, 1)[1].split("\\section", 1)[0] if name + " \n" in text else ""
+                    return re.findall(r"<TR><TD> \\c (\w+)\s*</TD> <TD> (.*?) </TD>", section)
+
+                rows, search_rows = parameter_rows(FILTER), parameter_rows(SEARCH)
             want = ([("Mesh", "Full mesh"), ("Mesh", "Partial mesh")]
                     + [({"int": "Int", "float": "Float", "choice": "Enum"}[s["type"]], s["label"]) for s in schema]
                     + [("Bool", "Score to vertex quality and colour")])
             checks.check("parameters", rows == want, "meshlabserver -d lists %d parameters (%s)%s" % (
                 len(rows), ", ".join(label for _, label in rows),
                 "" if rows == want else "; expected %s; exit %d" % (want, proc.returncode)))
+            want = [("Mesh", "Partial mesh")] + want[2:-1]
+            checks.check("parameters", search_rows == want, "the ranking filter lists %d parameters%s" % (
+                len(search_rows), "" if search_rows == want else ": %s; expected %s" % (search_rows, want)))
             shipped = open(SHIPPED_SCRIPT).read() if os.path.exists(SHIPPED_SCRIPT) else ""
             checks.check("parameters", shipped == mlx(filter_call(schema, 0, 1)),
                          "%s is the script of the defaults (regenerate: %s --write-script %s)"
@@ -389,6 +412,24 @@ def main():
             checks.check("bad-mesh", "localization failed" in text and "the partial shape has no boundary" in text,
                          log_excerpt(text, "no boundary"))
             no_crash(checks, "bad-mesh", status, text)
+
+        if wanted("rank"):
+            print("case rank: partial.off against a library of three layers (full.off is the second)")
+            library = [os.path.join(work, n) for n in ("other_ellipsoid.off", "full.off", "other_bumps.off")]
+            status, text, out = run_server(server, work, "rank", library + [partial], mlx(rank_call(schema, 3, k=args.k, centers=2)),
+                                           save_mask=["vf", "sa"], timeout=args.timeout, save_layer=1)
+            no_crash(checks, "rank", status, text)
+            ok = status == 0 and out is not None and os.path.exists(out)
+            checks.check("rank", ok, "the filter call applied and the full layer saved (exit %d)" % status)
+            ranks = log_lines(text, "Rank ")
+            ranks = [l for l in ranks if re.match(r"Rank \d: ", l)]
+            checks.check("rank", len(ranks) == 3 and ranks[0].startswith("Rank 1: 'full.off' score "),
+                         " | ".join(ranks) or log_excerpt(text, "Rank layers"))
+            if ok:
+                sel = set(read_selected(out)[1])
+                checks.check("rank", iou_of(sel, expected) >= 0.5,
+                             "IoU %.3f (>= 0.5) on the best layer: %d selected, %d expected"
+                             % (iou_of(sel, expected), len(sel), len(expected)))
 
         if wanted("readme"):
             print("case readme: the headless command line of %s, as written" % os.path.relpath(README, REPO))

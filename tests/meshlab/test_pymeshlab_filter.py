@@ -12,7 +12,8 @@ with ctypes from the dualspectra-ffi shared library the plugin was linked from
 (DUALSPECTRA_FFI_LIB). DUALSPECTRA_MESHLAB_LEVEL (3) and DUALSPECTRA_MESHLAB_K (10) size the
 localizations, DUALSPECTRA_MESHLAB_MIN_IOU (0.7) is the IoU the region must reach. The Python
 example of meshlab_filter/README.md is run as written there, in a directory holding the pair
-and the plugin under the README's path.
+and the plugin under the README's path; so is the ranking example (`dualspectra_search`), on a
+library of three models in which full.off must win.
 """
 
 from __future__ import annotations
@@ -34,6 +35,7 @@ pymeshlab = pytest.importorskip("pymeshlab")
 HERE = Path(__file__).resolve().parent
 README = HERE.parent.parent / "meshlab_filter" / "README.md"
 FILTER = "dualspectra_localize"
+SEARCH = "dualspectra_search"
 LEVEL = int(os.environ.get("DUALSPECTRA_MESHLAB_LEVEL", "3"))
 K = int(os.environ.get("DUALSPECTRA_MESHLAB_K", "10"))
 MIN_IOU = float(os.environ.get("DUALSPECTRA_MESHLAB_MIN_IOU", "0.7"))
@@ -194,20 +196,70 @@ def test_missing_layer_is_refused(plugin: Path, pair: Path) -> None:
     assert "partial_mesh: there is no layer with id 7" in message
 
 
-def test_readme_example_runs_as_written(plugin: Path, pair: Path, tmp_path: Path) -> None:
-    blocks = [b for b in re.findall(r"```python\n(.*?)```", README.read_text(), re.S) if FILTER in b]
-    assert len(blocks) == 1, f"{README}: expected one Python example applying {FILTER}"
+def test_search_filter_is_listed_with_the_library_options(plugin: Path, pair: Path, schema: List[Dict[str, Any]]) -> None:
+    assert SEARCH in pymeshlab.filter_list()
+    values = meshset(plugin, pair, "full.off", "partial.off").filter_parameter_values(SEARCH)
+    assert list(values) == ["partial_mesh"] + [s["name"] for s in schema]
+    assert values["partial_mesh"] == 1  # the current layer (the last loaded)
+
+
+def test_search_ranks_visible_mesh_layers_only(plugin: Path, pair: Path) -> None:
+    """A hidden layer and a point cloud are not ranked: with only those besides the partial,
+    there is nothing to rank (refused before any computation)."""
+    ms = meshset(plugin, pair, "full.off", "points.off", "partial.off")
+    ms.set_mesh_visibility(0, False)
+    with pytest.raises(pymeshlab.PyMeshLabException) as raised:
+        ms.apply_filter(SEARCH, partial_mesh=2)
+    assert "Rank layers: no visible mesh layer besides the partial layer 'partial.off'" in str(raised.value)
+    with pytest.raises(pymeshlab.PyMeshLabException) as raised:
+        ms.apply_filter(SEARCH, partial_mesh=1)
+    assert "Rank layers: the partial layer 'points.off' has no faces" in str(raised.value)
+    assert not any(ms.mesh(i).vertex_selection_array().any() for i in range(3))
+
+
+def run_readme_example(plugin: Path, pair: Path, tmp_path: Path, filter_name: str, files: Dict[str, str],
+                       then: str = "") -> str:
+    """Run the README's Python example that applies `filter_name`, as written (then `then`), in
+    `tmp_path` holding the plugin under the example's path and the pair's meshes under the
+    example's names (`files`: example name -> pair name); its standard output."""
+    blocks = [b for b in re.findall(r"```python\n(.*?)```", README.read_text(), re.S) if filter_name in b]
+    assert len(blocks) == 1, f"{README}: expected one Python example applying {filter_name}"
     example = blocks[0]
     where = re.search(r'load_plugin\("([^"]+)"\)', example)
     assert where, "the example loads the plugin from a literal path"
     (tmp_path / where.group(1)).parent.mkdir(parents=True)
     (tmp_path / where.group(1)).symlink_to(plugin.resolve())
-    for name in ("full.off", "partial.off"):
-        (tmp_path / name).write_bytes((pair / name).read_bytes())
-    run = subprocess.run([sys.executable, "-c", example], cwd=tmp_path, capture_output=True, text=True, timeout=900)
+    for name, source in files.items():
+        (tmp_path / name).write_bytes((pair / source).read_bytes())
+    run = subprocess.run([sys.executable, "-c", example + then], cwd=tmp_path, capture_output=True, text=True, timeout=900)
     assert run.returncode == 0, run.stdout + run.stderr
-    said = re.search(r"^(\d+) vertices selected; confidence ([0-9.]+)$", run.stdout, re.M)
-    assert said, run.stdout
+    return run.stdout
+
+
+def test_readme_search_example_ranks_the_model_the_part_was_cut_from_first(plugin: Path, pair: Path, tmp_path: Path) -> None:
+    """The README's ranking example on a library of three models: cat (an ellipsoid), dog
+    (other bumps) and wolf (full.off, the model the part was cut from); then the returned
+    numbers, printed as JSON."""
+    files = {"cat.off": "other_ellipsoid.off", "dog.off": "other_bumps.off", "wolf.off": "full.off", "part.off": "partial.off"}
+    out = run_readme_example(plugin, pair, tmp_path, SEARCH, files, then="\nimport json\nprint(json.dumps(ranked))\n")
+    print(out)
+    said = re.search(r"^best: wolf\.off, score ([0-9.]+), confidence ([0-9.]+)$", out, re.M)
+    assert said, out
+    count = re.search(r"^(\d+) vertices selected$", out, re.M)
+    assert count, out
+    ranked = json.loads(out.strip().splitlines()[-1])
+    assert set(ranked) == {"best_layer", "score", "confidence", "selected_vertices", "selected_faces", "ranked", "prepared", "seconds"}
+    assert (ranked["best_layer"], ranked["ranked"], ranked["prepared"]) == (2, 3, 3)
+    assert ranked["score"] >= 0.0 and 0.0 <= ranked["confidence"] <= 1.0
+    assert ranked["selected_vertices"] == int(count.group(1))
+    truth = expected(pair, "expected_region.txt")
+    assert 0.5 * len(truth) <= ranked["selected_vertices"] <= 1.5 * len(truth)
+
+
+def test_readme_example_runs_as_written(plugin: Path, pair: Path, tmp_path: Path) -> None:
+    out = run_readme_example(plugin, pair, tmp_path, FILTER, {"full.off": "full.off", "partial.off": "partial.off"})
+    said = re.search(r"^(\d+) vertices selected; confidence ([0-9.]+)$", out, re.M)
+    assert said, out
     truth = expected(pair, "expected_region.txt")
     assert 0.5 * len(truth) <= int(said.group(1)) <= 1.5 * len(truth)
     assert 0.0 <= float(said.group(2)) <= 1.0

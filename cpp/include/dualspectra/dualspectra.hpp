@@ -14,12 +14,17 @@
 //
 //   dualspectra::Localizer prepared(full, opts);          // several partials on one full mesh:
 //   auto a = prepared.locate(part_a), b = prepared.locate(part_b);  // prepared once
+//   prepared.save("full.dsprep");                          // later: Localizer::load("full.dsprep")
+//
+//   std::vector<dualspectra::Localizer> library = ...;     // which model is the part from?
+//   std::vector<dualspectra::Match> ranked = dualspectra::search(part, library);  // best first
 #pragma once
 
 #include <array>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -35,7 +40,8 @@ namespace dualspectra {
 class Error : public std::runtime_error {
  public:
   Error(Status status, const std::string& what) : std::runtime_error(what), status_(status) {}
-  // InvalidArgument, InvalidMesh, Numerical, Cancelled, Panic (a bug) or Io.
+  // InvalidArgument, InvalidMesh, Numerical, Cancelled, Panic (a bug), Io or
+  // InvalidPreparedShape (Localizer::load: a foreign, stale, truncated or corrupted file).
   Status status() const noexcept { return status_; }
 
  private:
@@ -156,6 +162,11 @@ struct Localization {
   // How much to trust the region, in [0, 1]: the estimated probability that it overlaps the
   // true region with IoU >= 0.5. Reject matches below a threshold of your choice.
   double confidence = 0.0;
+  // How similar the partial is to the full shape (lower is more similar), comparable between
+  // full shapes of different size and meshing: what search() ranks by. The core's
+  // search::similarity_score_of (the chosen region's relative eigenvalue misfit times the
+  // partial's descriptor fit in it); +inf when unknown (an empty region).
+  double similarity_score = 0.0;
   std::size_t selected_start = 0;
   std::size_t n_starts = 0;
   Timings timings{};                   // wall-clock seconds per stage
@@ -175,10 +186,21 @@ using ProgressCallback = std::function<bool(double fraction, std::string_view st
 
 // A full mesh prepared for locating partials on it: what depends on the full shape alone
 // (scale, optimisation mesh, descriptors, start positions) is computed once, by the
-// constructor. locate() may be called from several threads at once.
+// constructor (or read back by load()). locate() may be called from several threads at once.
 class Localizer {
  public:
   explicit Localizer(const Mesh& full, const Options& options = Options(), const ProgressCallback& progress = {});
+
+  // Read a prepared shape written by save() (or `dualspectra prepare`): it locates as the one
+  // saved does, with its options, in the numbering of the mesh it was prepared from. Throws
+  // Error(Status::Io) for a file that cannot be read, Error(Status::InvalidPreparedShape) for
+  // one that is not a prepared shape, of another format version (stale: prepare it again),
+  // truncated or corrupted; the message names the file and which.
+  static Localizer load(const std::string& path);
+  // Write the prepared shape to `path` (".dsprep" by convention; versioned format): the
+  // options, the host's vertex numbering and all the preparation computed. Throws
+  // Error(Status::Io) when the file cannot be written.
+  void save(const std::string& path) const;
 
   // Find the region of the full mesh that `partial` is.
   Localization locate(const Mesh& partial, const ProgressCallback& progress = {}) const;
@@ -194,9 +216,35 @@ class Localizer {
   // The options it was prepared with.
   Options options() const;
 
+  const detail::LocalizerData& data() const noexcept { return *data_; }
+
  private:
+  explicit Localizer(rust::Box<detail::LocalizerData> data) : data_(std::move(data)) {}
   rust::Box<detail::LocalizerData> data_;
 };
+
+// One full shape's answer of search().
+struct Match {
+  std::size_t index = 0;          // the shape's position in the localizers searched
+  // Localization::similarity_score (lower is more similar); +inf when not located.
+  double score = std::numeric_limits<double>::infinity();
+  bool located = false;           // false: the partial cannot be on this shape (see error)
+  Localization localization;      // in the numbering of this shape's full mesh; empty if not located
+  std::string error;              // why it was not located ("" if it was)
+};
+
+// Which of the prepared full shapes is `partial` a part of, and where: the partial is located
+// on each, and the `top` best (lowest score) are returned, best first (ties: the lower index
+// first). A shape the partial cannot be on (e.g. smaller than it) ranks last, not located;
+// when no shape can take it, the first shape's error is thrown. top == 0 throws
+// Error(Status::InvalidArgument); a null pointer among the localizers too. Progress runs over
+// the shapes.
+std::vector<Match> search(const Mesh& partial, const std::vector<const Localizer*>& localizers,
+                          std::size_t top = std::numeric_limits<std::size_t>::max(),
+                          const ProgressCallback& progress = {});
+std::vector<Match> search(const Mesh& partial, const std::vector<Localizer>& localizers,
+                          std::size_t top = std::numeric_limits<std::size_t>::max(),
+                          const ProgressCallback& progress = {});
 
 // Find the region of `full` that `partial` corresponds to, in one call (a Localizer used once).
 Localization localize(const Mesh& full, const Mesh& partial, const Options& options = Options(),

@@ -1,8 +1,9 @@
 //! The C ABI of dualspectra (header: `cpp/include/dualspectra/dualspectra.h`).
 //!
 //! Conventions, the same at every entry point:
-//! - Opaque handles (`ds_mesh`, `ds_options`, `ds_localizer`, `ds_result`) created by
-//!   `*_create`/`ds_localize` and released by `*_destroy`. A *handle argument* may be any
+//! - Opaque handles (`ds_mesh`, `ds_options`, `ds_localizer`, `ds_result`, `ds_search_result`)
+//!   created by `*_create`/`ds_localize`/`ds_localizer_load`/`ds_search` and released by
+//!   `*_destroy`. A *handle argument* may be any
 //!   pointer: it is looked up in a registry of live handles before it is read (below); NULL, a
 //!   destroyed or foreign pointer, or a handle of another type is `DS_INVALID_ARGUMENT`
 //!   (getters: 0 or NULL, with the message; `*_destroy`: nothing happens). A handle must not be
@@ -40,15 +41,21 @@
 //! (indistinguishable; of another type it is refused); destroying a handle while another thread
 //! is inside a call on it is still the caller's bug.
 //!
+//! A `ds_search_result` owns the `ds_result` of each shape it ranks; they are registered as
+//! *borrowed* results while it lives: every `ds_result_*` getter takes them, `ds_result_destroy`
+//! refuses them (nothing happens, the message says who owns them), and
+//! `ds_search_result_destroy` takes them out of the registry with their owner.
+//!
 //! ## Memory
 //!
 //! Rust aborts the process when an allocation fails, and `catch_unwind` cannot catch that. So
 //! before the core reads host arrays or allocates anything in proportion to host-given sizes,
 //! the sizes are checked for overflow and a lower bound of what the call will hold is reserved
 //! and released at once (`reserve`): a mesh's own arrays for `ds_mesh_create*`, eigenvectors
-//! and operators (`n (min(k, n) + c)` doubles) for `ds_spectrum`, `ds_localize` and
-//! `ds_localizer_create`/`_locate`. A reservation that fails is `DS_OUT_OF_MEMORY` with the size
-//! in the message. Best effort: it turns impossible requests (a mesh of 2^40 vertices) into an
+//! and operators (`n (min(k, n) + c)` doubles) for `ds_spectrum`, `ds_localize`,
+//! `ds_localizer_create`/`_locate` and `ds_search` (per shape), the file's bytes for
+//! `ds_localizer_load`. A reservation that fails is `DS_OUT_OF_MEMORY` with the size in the
+//! message. Best effort: it turns impossible requests (a mesh of 2^40 vertices) into an
 //! error, but cannot guard every allocation in the core, and an overcommitting kernel may grant
 //! a reservation the computation later cannot fill.
 
@@ -60,6 +67,7 @@ use std::cell::RefCell;
 use std::collections::BTreeMap;
 use std::ffi::{c_char, c_int, c_void, CStr, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::PathBuf;
 use std::sync::{Mutex, MutexGuard, OnceLock, PoisonError};
 
 /// Status code returned by every fallible entry point (`DS_OK` = 0 on success).
@@ -87,6 +95,10 @@ pub const DS_IO: ds_status = 6;
 /// Checked up front from the sizes given (best effort: a lower bound of what the call holds,
 /// not every allocation of the core), before anything is read or computed.
 pub const DS_OUT_OF_MEMORY: ds_status = 7;
+/// A file given to `ds_localizer_load` is not a usable prepared shape: foreign (not one),
+/// stale (written by another format version: prepare the shape again), truncated or
+/// corrupted. The message names the file and which of these it is.
+pub const DS_INVALID_PREPARED_SHAPE: ds_status = 8;
 
 /// Which metric a spectrum is computed in.
 pub type ds_metric = u32;
@@ -120,11 +132,30 @@ pub struct ds_localizer {
     pub(crate) options_json: CString,
 }
 
-/// The result of `ds_localize` or `ds_localizer_locate` (immutable).
+/// The result of `ds_localize` or `ds_localizer_locate` (immutable), or one shape's result in
+/// a `ds_search_result` (borrowed from it).
 pub struct ds_result {
     pub(crate) loc: Localization,
     /// `loc.warnings` as C strings, owned by the result.
     pub(crate) warnings: Vec<CString>,
+}
+
+/// The ranking of `ds_search` (immutable): the best matches, best first.
+pub struct ds_search_result {
+    pub(crate) matches: Vec<SearchMatch>,
+}
+
+/// One full shape's answer in a `ds_search_result`.
+pub(crate) struct SearchMatch {
+    /// Index of the localizer in the array given to `ds_search`.
+    index: usize,
+    /// The similarity score (lower is more similar; infinite when the partial could not be
+    /// located on the shape).
+    score: f64,
+    /// The localization, a borrowed handle while the search result lives (`None`: not located).
+    result: Option<Box<ds_result>>,
+    /// Why the partial could not be located on the shape.
+    error: Option<CString>,
 }
 
 /// Wall-clock seconds per stage.
@@ -384,6 +415,7 @@ pub extern "C" fn ds_status_name(status: ds_status) -> *const c_char {
         DS_PANIC => c"DS_PANIC",
         DS_IO => c"DS_IO",
         DS_OUT_OF_MEMORY => c"DS_OUT_OF_MEMORY",
+        DS_INVALID_PREPARED_SHAPE => c"DS_INVALID_PREPARED_SHAPE",
         _ => c"DS_UNKNOWN_STATUS",
     }
     .as_ptr()
@@ -415,6 +447,7 @@ enum Kind {
     Options,
     Localizer,
     Result,
+    SearchResult,
 }
 
 impl Kind {
@@ -424,6 +457,7 @@ impl Kind {
             Kind::Options => "ds_options",
             Kind::Localizer => "ds_localizer",
             Kind::Result => "ds_result",
+            Kind::SearchResult => "ds_search_result",
         }
     }
 }
@@ -431,6 +465,12 @@ impl Kind {
 /// A type handed to C as an opaque handle.
 trait Handle {
     const KIND: Kind;
+
+    /// Addresses of the handles this one owns and lends out (registered and released with
+    /// it): the results of a `ds_search_result`.
+    fn lent(&self) -> Vec<usize> {
+        Vec::new()
+    }
 }
 
 impl Handle for ds_mesh {
@@ -445,25 +485,40 @@ impl Handle for ds_localizer {
 impl Handle for ds_result {
     const KIND: Kind = Kind::Result;
 }
+impl Handle for ds_search_result {
+    const KIND: Kind = Kind::SearchResult;
 
-/// The live handles: address -> type. An address is inserted by [`write_handle`] when its
-/// handle is made and removed by [`destroy`] before it is released, so a registered address
-/// always points to a live handle of the recorded type.
-static LIVE: Mutex<BTreeMap<usize, Kind>> = Mutex::new(BTreeMap::new());
+    fn lent(&self) -> Vec<usize> {
+        self.matches.iter().filter_map(|m| m.result.as_deref()).map(|r| r as *const ds_result as usize).collect()
+    }
+}
 
-fn live() -> MutexGuard<'static, BTreeMap<usize, Kind>> {
+/// A live handle's registry entry: its type, and whether another handle owns it (lent by
+/// [`Handle::lent`]; `*_destroy` refuses it).
+#[derive(Debug, Clone, Copy)]
+struct Entry {
+    kind: Kind,
+    lent: bool,
+}
+
+/// The live handles: address -> entry. An address is inserted by [`write_handle`] when its
+/// handle is made (with the handles it lends) and removed by [`destroy`] before it is
+/// released, so a registered address always points to a live handle of the recorded type.
+static LIVE: Mutex<BTreeMap<usize, Entry>> = Mutex::new(BTreeMap::new());
+
+fn live() -> MutexGuard<'static, BTreeMap<usize, Entry>> {
     // Poisoning: a panic cannot leave the map half-updated (each insert/remove is whole).
     LIVE.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
-/// Whether `ptr` is registered in `live` as a `T`; `what` names the argument in the message.
-fn check_live<T: Handle>(live: &BTreeMap<usize, Kind>, ptr: *const T, what: &str) -> Result<(), Failure> {
+/// The entry of `ptr` if it is registered as a `T`; `what` names the argument in the message.
+fn check_live<T: Handle>(live: &BTreeMap<usize, Entry>, ptr: *const T, what: &str) -> Result<Entry, Failure> {
     if ptr.is_null() {
         return Err(invalid(format!("{what} is NULL")));
     }
     match live.get(&(ptr as usize)) {
-        Some(&kind) if kind == T::KIND => Ok(()),
-        Some(&kind) => Err(invalid(format!("{what} is a {} handle, not a {}", kind.name(), T::KIND.name()))),
+        Some(&entry) if entry.kind == T::KIND => Ok(entry),
+        Some(&entry) => Err(invalid(format!("{what} is a {} handle, not a {}", entry.kind.name(), T::KIND.name()))),
         None => Err(invalid(format!(
             "{what} ({ptr:p}) is not a live {} handle (destroyed already, or not made by this library)",
             T::KIND.name()
@@ -475,10 +530,11 @@ fn check_live<T: Handle>(live: &BTreeMap<usize, Kind>, ptr: *const T, what: &str
 /// other-type pointers are refused without being read).
 ///
 /// # Safety
-/// No other thread may destroy the handle while the returned reference is in use.
+/// No other thread may destroy the handle (or its owner) while the returned reference is in use.
 unsafe fn handle<'a, T: Handle>(ptr: *const T, what: &str) -> Result<&'a T, Failure> {
     check_live(&live(), ptr, what)?;
-    // SAFETY: registered, so made by `write_handle` from a `Box<T>` and not yet destroyed.
+    // SAFETY: registered, so made by `write_handle` from a `Box<T>` (or lent by a handle made
+    // so) and not yet destroyed.
     Ok(unsafe { &*ptr })
 }
 
@@ -497,29 +553,58 @@ unsafe fn get<T: Handle, R: Copy>(ptr: *const T, what: &str, fallback: R, f: imp
     })
 }
 
-/// Make a handle of `value`, register it and write it to `out`; drop it if `out` cannot take it.
+/// Make a handle of `value`, register it (and the handles it lends) and write it to `out`;
+/// drop it if `out` cannot take it.
 ///
 /// # Safety
 /// As [`write_out`].
 unsafe fn write_handle<T: Handle>(out: *mut *mut T, value: T) -> Result<(), Failure> {
+    let lent = value.lent();
     let h = Box::into_raw(Box::new(value));
-    live().insert(h as usize, T::KIND);
+    {
+        let mut live = live();
+        live.insert(h as usize, Entry { kind: T::KIND, lent: false });
+        for &address in &lent {
+            live.insert(address, Entry { kind: Kind::Result, lent: true });
+        }
+    }
     // SAFETY: caller's contract.
     let written = unsafe { write_out(out, h, "out") };
     if written.is_err() {
-        live().remove(&(h as usize));
+        {
+            let mut live = live();
+            live.remove(&(h as usize));
+            for address in &lent {
+                live.remove(address);
+            }
+        }
         // SAFETY: `h` was just made by `Box::into_raw` and given to no one.
         drop(unsafe { Box::from_raw(h) });
     }
     written
 }
 
-/// Release a handle made by [`write_handle`]. NULL is ignored; a pointer that is not a live
-/// `T` (destroyed already, foreign, another type) is left alone, and `function` names it in
-/// the thread's last error.
+/// The body of an entry point that makes a handle: `out` is checked first (NULL: nothing is
+/// computed), `body` makes the value, which becomes a handle written to `out`.
 ///
 /// # Safety
-/// No other thread may be using the handle.
+/// As [`write_out`] for `out`; `body` as its own unsafe calls require.
+unsafe fn make<T: Handle>(out: *mut *mut T, body: impl FnOnce() -> Result<T, Failure>) -> ds_status {
+    guard(|| {
+        if out.is_null() {
+            return Err(invalid("out is NULL"));
+        }
+        let value = body()?;
+        unsafe { write_handle(out, value) }
+    })
+}
+
+/// Release a handle made by [`write_handle`]. NULL is ignored; a pointer that is not a live
+/// `T` (destroyed already, foreign, another type) or that another handle lends is left alone,
+/// and `function` names it in the thread's last error.
+///
+/// # Safety
+/// No other thread may be using the handle (or one it lends).
 unsafe fn destroy<T: Handle>(ptr: *mut T, function: &str) {
     if ptr.is_null() {
         return;
@@ -527,12 +612,24 @@ unsafe fn destroy<T: Handle>(ptr: *mut T, function: &str) {
     let _ = catch_unwind(AssertUnwindSafe(|| {
         let registered = {
             let mut live = live();
-            check_live(&live, ptr, "the handle").map(|()| live.remove(&(ptr as usize)))
+            check_live(&live, ptr, "the handle").and_then(|entry| {
+                if entry.lent {
+                    return Err(invalid(format!(
+                        "the handle ({ptr:p}) belongs to a ds_search_result (released with it by ds_search_result_destroy)"
+                    )));
+                }
+                live.remove(&(ptr as usize));
+                // SAFETY: registered just now, so live; the lock is held.
+                for address in unsafe { &*ptr }.lent() {
+                    live.remove(&address);
+                }
+                Ok(())
+            })
         };
         match registered {
             // SAFETY: it was registered, so made by `write_handle` from a `Box<T>`; it left the
             // registry under the lock just now, so it is released once.
-            Ok(_) => drop(unsafe { Box::from_raw(ptr) }),
+            Ok(()) => drop(unsafe { Box::from_raw(ptr) }),
             Err(e) => set_last_error(&format!("{function}: {}; nothing was released", e.message())),
         }
     }));
@@ -575,14 +672,12 @@ pub unsafe extern "C" fn ds_mesh_create(
     n_faces: usize,
     out: *mut *mut ds_mesh,
 ) -> ds_status {
-    guard(|| {
-        if out.is_null() {
-            return Err(invalid("out is NULL"));
-        }
-        let (v, f) = unsafe { mesh_arrays(xyz, n_vertices, tri, n_faces)? };
-        let mesh = HostMesh::strict(v, f)?;
-        unsafe { write_handle(out, ds_mesh { mesh, warning: None }) }
-    })
+    unsafe {
+        make(out, || {
+            let (v, f) = mesh_arrays(xyz, n_vertices, tri, n_faces)?;
+            Ok(ds_mesh { mesh: HostMesh::strict(v, f)?, warning: None })
+        })
+    }
 }
 
 /// Create a mesh from a host's arrays (an editor's mesh, a scan, a file) through the core's
@@ -611,15 +706,14 @@ pub unsafe extern "C" fn ds_mesh_create_from_host(
     n_faces: usize,
     out: *mut *mut ds_mesh,
 ) -> ds_status {
-    guard(|| {
-        if out.is_null() {
-            return Err(invalid("out is NULL"));
-        }
-        let (v, f) = unsafe { mesh_arrays(xyz, n_vertices, tri, n_faces)? };
-        let mesh = HostMesh::from_host(v, f)?;
-        let warning = mesh.host_map().warning("mesh").map(|w| c_string(&w));
-        unsafe { write_handle(out, ds_mesh { mesh, warning }) }
-    })
+    unsafe {
+        make(out, || {
+            let (v, f) = mesh_arrays(xyz, n_vertices, tri, n_faces)?;
+            let mesh = HostMesh::from_host(v, f)?;
+            let warning = mesh.host_map().warning("mesh").map(|w| c_string(&w));
+            Ok(ds_mesh { mesh, warning })
+        })
+    }
 }
 
 /// Release a mesh. NULL is ignored; a pointer that is not a live `ds_mesh` (destroyed
@@ -917,6 +1011,19 @@ fn result_handle(loc: Localization) -> ds_result {
     ds_result { loc, warnings }
 }
 
+fn localizer_handle(inner: HostLocalizer) -> ds_localizer {
+    let warnings = inner.warnings().iter().map(|w| c_string(w)).collect();
+    let options_json = c_string(&inner.localizer().options().to_json());
+    ds_localizer { inner, warnings, options_json }
+}
+
+/// Reserve what locating `partial` on `localizer` holds at least ([`locate_bytes`]).
+fn reserve_locate(localizer: &HostLocalizer, partial: &ds_mesh) -> Result<(), Failure> {
+    let (n, m) = (partial.mesh.mesh().n_vertices(), localizer.localizer().optimisation_vertices());
+    let k = localizer.localizer().options().k;
+    reserve(locate_bytes(n, m, k), || format!("locating a partial of {n} vertices with k = {k}"))
+}
+
 /// Prepare `full` for locating partials on it: its scale, optimisation mesh, descriptors and
 /// start positions, computed once. `options` may be NULL (defaults); the options are checked
 /// here and copied. `progress` may be NULL. On success `*out` receives a handle to release
@@ -938,19 +1045,15 @@ pub unsafe extern "C" fn ds_localizer_create(
     user: *mut c_void,
     out: *mut *mut ds_localizer,
 ) -> ds_status {
-    guard(|| {
-        if out.is_null() {
-            return Err(invalid("out is NULL"));
-        }
-        let full = unsafe { handle(full, "full")? };
-        let options = unsafe { options_in(options)? };
-        let n = full.mesh.mesh().n_vertices();
-        reserve(prepare_bytes(n, &options), || format!("preparing a full mesh of {n} vertices with k = {}", options.k))?;
-        let inner = HostLocalizer::new(&full.mesh, &options, &progress_of(progress, user))?;
-        let warnings = inner.warnings().iter().map(|w| c_string(w)).collect();
-        let options_json = c_string(&options.to_json());
-        unsafe { write_handle(out, ds_localizer { inner, warnings, options_json }) }
-    })
+    unsafe {
+        make(out, || {
+            let full = handle(full, "full")?;
+            let options = options_in(options)?;
+            let n = full.mesh.mesh().n_vertices();
+            reserve(prepare_bytes(n, &options), || format!("preparing a full mesh of {n} vertices with k = {}", options.k))?;
+            Ok(localizer_handle(HostLocalizer::new(&full.mesh, &options, &progress_of(progress, user))?))
+        })
+    }
 }
 
 /// Find the region of the prepared full mesh that `partial` is. May be called from several
@@ -973,18 +1076,14 @@ pub unsafe extern "C" fn ds_localizer_locate(
     user: *mut c_void,
     out: *mut *mut ds_result,
 ) -> ds_status {
-    guard(|| {
-        if out.is_null() {
-            return Err(invalid("out is NULL"));
-        }
-        let localizer = unsafe { handle(localizer, "localizer")? };
-        let partial = unsafe { handle(partial, "partial")? };
-        let (n, m) = (partial.mesh.mesh().n_vertices(), localizer.inner.localizer().optimisation_vertices());
-        let k = localizer.inner.localizer().options().k;
-        reserve(locate_bytes(n, m, k), || format!("locating a partial of {n} vertices with k = {k}"))?;
-        let loc = localizer.inner.locate(&partial.mesh, &progress_of(progress, user))?;
-        unsafe { write_handle(out, result_handle(loc)) }
-    })
+    unsafe {
+        make(out, || {
+            let localizer = handle(localizer, "localizer")?;
+            let partial = handle(partial, "partial")?;
+            reserve_locate(&localizer.inner, partial)?;
+            Ok(result_handle(localizer.inner.locate(&partial.mesh, &progress_of(progress, user))?))
+        })
+    }
 }
 
 /// Release a localizer. NULL is ignored; a pointer that is not a live `ds_localizer`
@@ -1060,6 +1159,68 @@ pub unsafe extern "C" fn ds_localizer_warning(localizer: *const ds_localizer, in
     unsafe { get(localizer, "localizer", std::ptr::null(), warning) }
 }
 
+/// Borrow a NUL-terminated path: any bytes on Unix (as the file system takes them), UTF-8
+/// elsewhere.
+///
+/// # Safety
+/// As [`str_in`].
+unsafe fn path_in(ptr: *const c_char, what: &str) -> Result<PathBuf, Failure> {
+    if ptr.is_null() {
+        return Err(invalid(format!("{what} is NULL")));
+    }
+    // SAFETY: caller's contract.
+    Ok(crate::path_of(unsafe { CStr::from_ptr(ptr) }.to_bytes(), what)?)
+}
+
+/// Save the prepared full shape to the file `path` (created or replaced; `.dsprep` by
+/// convention), so that `ds_localizer_load` gives it back without preparing it again: the
+/// options, the host's vertex numbering and everything the preparation computed, in a
+/// versioned format (the core's `localizer::persist`; the same files as `dualspectra prepare`).
+///
+/// Errors: `DS_INVALID_ARGUMENT` (not a live localizer, NULL or empty path), `DS_IO` (the file
+/// cannot be written; the message names it).
+///
+/// # Safety
+/// `localizer` any pointer (a handle argument, checked); `path` a NUL-terminated string.
+#[no_mangle]
+pub unsafe extern "C" fn ds_localizer_save(localizer: *const ds_localizer, path: *const c_char) -> ds_status {
+    guard(|| {
+        let localizer = unsafe { handle(localizer, "localizer")? };
+        let path = unsafe { path_in(path, "path")? };
+        Ok(localizer.inner.save(&path)?)
+    })
+}
+
+/// Load a prepared full shape saved by `ds_localizer_save` (or `dualspectra prepare`): it
+/// locates partials as the localizer that was saved does, with its options (threads included),
+/// and its results are in the numbering of the mesh it was prepared from. The intake's note on
+/// that mesh (`ds_localizer_warning`) is not kept in the file; a file of another library
+/// version with the same format loads, with a note. On success `*out` receives a handle to
+/// release with `ds_localizer_destroy`.
+///
+/// Errors: `DS_INVALID_ARGUMENT` (NULL or empty path, NULL out), `DS_IO` (the file cannot be
+/// read), `DS_INVALID_PREPARED_SHAPE` (not a prepared shape, a stale format version, truncated
+/// or corrupted: the message names the file and which; prepare the shape again),
+/// `DS_OUT_OF_MEMORY` (the file's size cannot be reserved).
+///
+/// # Safety
+/// `path` a NUL-terminated string; `out` valid for one write.
+#[no_mangle]
+pub unsafe extern "C" fn ds_localizer_load(path: *const c_char, out: *mut *mut ds_localizer) -> ds_status {
+    unsafe {
+        make(out, || {
+            let path = path_in(path, "path")?;
+            // The bytes are read whole: reserve them first (the format checks every count
+            // against the bytes present before allocating).
+            if let Ok(meta) = std::fs::metadata(&path) {
+                let bytes = usize::try_from(meta.len()).ok();
+                reserve(bytes, || format!("reading the prepared shape {}", path.display()))?;
+            }
+            Ok(localizer_handle(HostLocalizer::load(&path)?))
+        })
+    }
+}
+
 /// Find the region of `full` that `partial` corresponds to, in one call (prepare, then locate;
 /// to locate several partials on one full mesh, prepare it once with `ds_localizer_create`).
 /// `options` may be NULL (defaults); `progress` may be NULL. On success `*out` receives a
@@ -1080,26 +1241,25 @@ pub unsafe extern "C" fn ds_localize(
     user: *mut c_void,
     out: *mut *mut ds_result,
 ) -> ds_status {
-    guard(|| {
-        if out.is_null() {
-            return Err(invalid("out is NULL"));
-        }
-        let full = unsafe { handle(full, "full")? };
-        let partial = unsafe { handle(partial, "partial")? };
-        let options = unsafe { options_in(options)? };
-        let (n, n_partial) = (full.mesh.mesh().n_vertices(), partial.mesh.mesh().n_vertices());
-        let m = optimisation_vertices(n, &options);
-        reserve(sum_bytes(&[prepare_bytes(n, &options), locate_bytes(n_partial, m, options.k)]), || {
-            format!("localizing a partial of {n_partial} vertices on a full mesh of {n} with k = {}", options.k)
-        })?;
-        let loc = crate::localize(&full.mesh, &partial.mesh, &options, &progress_of(progress, user))?;
-        unsafe { write_handle(out, result_handle(loc)) }
-    })
+    unsafe {
+        make(out, || {
+            let full = handle(full, "full")?;
+            let partial = handle(partial, "partial")?;
+            let options = options_in(options)?;
+            let (n, n_partial) = (full.mesh.mesh().n_vertices(), partial.mesh.mesh().n_vertices());
+            let m = optimisation_vertices(n, &options);
+            reserve(sum_bytes(&[prepare_bytes(n, &options), locate_bytes(n_partial, m, options.k)]), || {
+                format!("localizing a partial of {n_partial} vertices on a full mesh of {n} with k = {}", options.k)
+            })?;
+            Ok(result_handle(crate::localize(&full.mesh, &partial.mesh, &options, &progress_of(progress, user))?))
+        })
+    }
 }
 
 /// Release a result. NULL is ignored; a pointer that is not a live `ds_result` (destroyed
-/// already, not from this library, another handle type) is left alone and named in
-/// `ds_last_error_message` (a second destroy does nothing).
+/// already, not from this library, another handle type) or that a `ds_search_result` owns
+/// (`ds_search_result_result`) is left alone and named in `ds_last_error_message` (a second
+/// destroy does nothing).
 ///
 /// # Safety
 /// `result` any pointer: only a live `ds_result` is released. No other thread may be in a
@@ -1223,6 +1383,20 @@ pub unsafe extern "C" fn ds_result_confidence(result: *const ds_result, out: *mu
     guard(|| unsafe { write_out(out, handle(result, "result")?.loc.confidence, "out") })
 }
 
+/// How similar the partial is to the full shape, from this localization: lower is more
+/// similar, comparable between full shapes of different size and meshing (both shapes at
+/// unit full-shape area), the score `ds_search` ranks by. The core's
+/// `search::similarity_score_of`: the root-mean-square relative eigenvalue error of the chosen
+/// region's own step potential times the partial's descriptor fit in it; `+inf` when either is
+/// unknown (an empty region).
+///
+/// # Safety
+/// `result` any pointer (a handle argument, checked); `out` valid for one write.
+#[no_mangle]
+pub unsafe extern "C" fn ds_result_similarity_score(result: *const ds_result, out: *mut f64) -> ds_status {
+    guard(|| unsafe { write_out(out, dualspectra::search::similarity_score_of(&handle(result, "result")?.loc), "out") })
+}
+
 /// Total wall-clock seconds of the call that made the result.
 ///
 /// # Safety
@@ -1291,6 +1465,141 @@ pub unsafe extern "C" fn ds_result_n_warnings(result: *const ds_result) -> usize
 pub unsafe extern "C" fn ds_result_warning(result: *const ds_result, index: usize) -> *const c_char {
     let warning = |r: &ds_result| r.warnings.get(index).map_or(std::ptr::null(), |w| w.as_ptr());
     unsafe { get(result, "result", std::ptr::null(), warning) }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Search: which of several full shapes is the partial a part of
+
+/// Rank the prepared full shapes `localizers[0 .. n_localizers]` for `partial`: the partial is
+/// located on each (as `ds_localizer_locate`), each localization scored by
+/// `ds_result_similarity_score` (lower is more similar), and the `top` best are kept, best
+/// first (ties: the lower index first). A shape the partial cannot be located on (e.g. smaller
+/// than it) ranks last, with its reason (`ds_search_result_error`); if that is every shape,
+/// the call fails with the first shape's error. The same localizer may appear twice.
+/// Progress runs over the shapes, 0 to 1; the callback returning 0 cancels. On success `*out`
+/// receives the ranking, to release with `ds_search_result_destroy`; it owns each shape's
+/// `ds_result` (`ds_search_result_result`).
+///
+/// Errors: `DS_INVALID_ARGUMENT` (`localizers` NULL with `n_localizers > 0`, an element that
+/// is not a live `ds_localizer` (named by its index), `partial` not a live mesh, `top == 0`,
+/// NULL out), `DS_OUT_OF_MEMORY` (as `ds_localizer_locate`, for the largest shape), the first
+/// shape's error when no shape can take the partial, `DS_CANCELLED`.
+///
+/// # Safety
+/// `localizers` NULL with `n_localizers == 0`, or `n_localizers` pointers (each any pointer: a
+/// handle argument, checked); `partial` any pointer (checked); `out` valid for one write;
+/// `progress` as for `ds_localizer_create`. No localizer may be destroyed during the call.
+#[no_mangle]
+pub unsafe extern "C" fn ds_search(
+    localizers: *const *const ds_localizer,
+    n_localizers: usize,
+    partial: *const ds_mesh,
+    top: usize,
+    progress: ds_progress_fn,
+    user: *mut c_void,
+    out: *mut *mut ds_search_result,
+) -> ds_status {
+    unsafe {
+        make(out, || {
+            let pointers = slice_in(localizers, n_localizers, "localizers")?;
+            let fulls = pointers
+                .iter()
+                .enumerate()
+                .map(|(i, &l)| handle(l, &format!("localizers[{i}]")).map(|l| &l.inner))
+                .collect::<Result<Vec<_>, _>>()?;
+            let partial = handle(partial, "partial")?;
+            for full in &fulls {
+                reserve_locate(full, partial)?;
+            }
+            let found = crate::search(&partial.mesh, &fulls, top, &progress_of(progress, user))?;
+            let matches = found
+                .into_iter()
+                .map(|m| SearchMatch {
+                    index: m.index,
+                    score: m.score,
+                    result: m.localization.map(|loc| Box::new(result_handle(loc))),
+                    error: m.error.as_deref().map(c_string),
+                })
+                .collect();
+            Ok(ds_search_result { matches })
+        })
+    }
+}
+
+/// Release a ranking and the results it owns (their pointers are then no longer live). NULL
+/// is ignored; a pointer that is not a live `ds_search_result` is left alone and named in
+/// `ds_last_error_message` (a second destroy does nothing).
+///
+/// # Safety
+/// `search` any pointer: only a live `ds_search_result` is released. No other thread may be in
+/// a call on it or on one of its results.
+#[no_mangle]
+pub unsafe extern "C" fn ds_search_result_destroy(search: *mut ds_search_result) {
+    unsafe { destroy(search, "ds_search_result_destroy") }
+}
+
+/// Number of ranked shapes: `min(top, n_localizers)` (0 for NULL).
+///
+/// # Safety
+/// `search` any pointer (a handle argument, checked).
+#[no_mangle]
+pub unsafe extern "C" fn ds_search_result_count(search: *const ds_search_result) -> usize {
+    unsafe { get(search, "search", 0, |s| s.matches.len()) }
+}
+
+/// The match at `rank` (0 = the best), or an error naming the rank.
+fn ranked(search: &ds_search_result, rank: usize) -> Result<&SearchMatch, Failure> {
+    search
+        .matches
+        .get(rank)
+        .ok_or_else(|| invalid(format!("rank {rank} is out of range ({} shapes ranked)", search.matches.len())))
+}
+
+/// Which shape is ranked at `rank` (0 = the best, `< ds_search_result_count`): its index in
+/// the `localizers` array given to `ds_search`.
+///
+/// # Safety
+/// `search` any pointer (a handle argument, checked); `out` valid for one write.
+#[no_mangle]
+pub unsafe extern "C" fn ds_search_result_index(search: *const ds_search_result, rank: usize, out: *mut usize) -> ds_status {
+    guard(|| unsafe { write_out(out, ranked(handle(search, "search")?, rank)?.index, "out") })
+}
+
+/// The similarity score of the shape at `rank` (`ds_result_similarity_score` of its result;
+/// lower is more similar; `+inf` when the partial could not be located on it).
+///
+/// # Safety
+/// `search` any pointer (a handle argument, checked); `out` valid for one write.
+#[no_mangle]
+pub unsafe extern "C" fn ds_search_result_score(search: *const ds_search_result, rank: usize, out: *mut f64) -> ds_status {
+    guard(|| unsafe { write_out(out, ranked(handle(search, "search")?, rank)?.score, "out") })
+}
+
+/// The localization on the shape at `rank`, *borrowed* from the ranking: read it with every
+/// `ds_result_*` getter (its per-vertex arrays are in the numbering of that shape's full
+/// mesh) until `ds_search_result_destroy(search)`; do not release it (`ds_result_destroy`
+/// refuses it and does nothing). NULL when the partial could not be located on that shape
+/// (see `ds_search_result_error`), for a rank out of range or a NULL ranking.
+///
+/// # Safety
+/// `search` any pointer (a handle argument, checked).
+#[no_mangle]
+pub unsafe extern "C" fn ds_search_result_result(search: *const ds_search_result, rank: usize) -> *const ds_result {
+    let result = |s: &ds_search_result| {
+        s.matches.get(rank).and_then(|m| m.result.as_deref()).map_or(std::ptr::null(), |r| r as *const ds_result)
+    };
+    unsafe { get(search, "search", std::ptr::null(), result) }
+}
+
+/// Why the partial could not be located on the shape at `rank` (NUL-terminated, owned by the
+/// ranking); NULL when it was located, for a rank out of range or a NULL ranking.
+///
+/// # Safety
+/// `search` any pointer (a handle argument, checked).
+#[no_mangle]
+pub unsafe extern "C" fn ds_search_result_error(search: *const ds_search_result, rank: usize) -> *const c_char {
+    let error = |s: &ds_search_result| s.matches.get(rank).and_then(|m| m.error.as_ref()).map_or(std::ptr::null(), |e| e.as_ptr());
+    unsafe { get(search, "search", std::ptr::null(), error) }
 }
 
 #[cfg(test)]

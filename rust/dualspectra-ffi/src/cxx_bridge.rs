@@ -4,18 +4,20 @@
 //!
 //! Shared plain types live in namespace `dualspectra` and are part of the public C++ API
 //! (`Timings`, `Metric`, `Status`); the functions and the opaque Rust types (mesh, options,
-//! localizer) live in `dualspectra::detail` and are wrapped by the public header, which turns
+//! localizer, a list of localizers to search) live in `dualspectra::detail` and are wrapped by
+//! the public header, which turns
 //! a `rust::Error` into a typed `dualspectra::Error` carrying the [`ffi::Status`] recorded here.
 //!
 //! Every function body runs under `catch_unwind` (a panic must not reach C++, where cxx would
 //! abort): a panic becomes an error with status `Panic`. Conversion only, no formula.
 
 use crate::{HostLocalizer, HostMesh};
+use dualspectra::search::similarity_score_of;
 use dualspectra::shape::Metric as CoreMetric;
 use dualspectra::{Error, Localization, Options, Progress};
 use std::cell::Cell;
 use std::panic::{catch_unwind, AssertUnwindSafe};
-use std::sync::{Mutex, OnceLock};
+use std::sync::{Arc, Mutex, OnceLock};
 
 #[cxx::bridge(namespace = "dualspectra")]
 pub mod ffi {
@@ -36,6 +38,10 @@ pub mod ffi {
         Cancelled = 4,
         Panic = 5,
         Io = 6,
+        /// C API only (`DS_OUT_OF_MEMORY`): the C++ API does not reserve memory up front.
+        OutOfMemory = 7,
+        /// `Localizer::load`: not a prepared shape, a stale format version, truncated or corrupted.
+        InvalidPreparedShape = 8,
     }
 
     /// Wall-clock seconds per stage of a localization.
@@ -56,6 +62,7 @@ pub mod ffi {
 
     /// Raw result of a localization (the public header converts it to std containers).
     #[namespace = "dualspectra::detail"]
+    #[derive(Default)]
     struct LocalizationData {
         region: Vec<u8>,
         score: Vec<f64>,
@@ -66,10 +73,22 @@ pub mod ffi {
         target_si: Vec<f64>,
         cost: f64,
         confidence: f64,
+        similarity_score: f64,
         selected_start: usize,
         n_starts: usize,
         timings: Timings,
         warnings: Vec<String>,
+    }
+
+    /// One full shape's answer of a search (`located`: else `error` says why and
+    /// `localization` is empty).
+    #[namespace = "dualspectra::detail"]
+    struct MatchData {
+        index: usize,
+        score: f64,
+        located: bool,
+        localization: LocalizationData,
+        error: String,
     }
 
     /// A sparse `n x n` matrix as coordinate triplets (`rows[i], cols[i], values[i]`).
@@ -126,6 +145,16 @@ pub mod ffi {
         fn preparation_seconds(self: &LocalizerData) -> f64;
         fn warnings(self: &LocalizerData) -> Vec<String>;
         fn options(self: &LocalizerData) -> Box<OptionsData>;
+        /// `path`: the file name's bytes (any bytes on Unix).
+        fn localizer_save(localizer: &LocalizerData, path: &[u8]) -> Result<()>;
+        fn localizer_load(path: &[u8]) -> Result<Box<LocalizerData>>;
+
+        /// The full shapes of a search, in order (each shared with its `LocalizerData`).
+        type LocalizerList;
+
+        fn localizer_list_new() -> Box<LocalizerList>;
+        fn push(self: &mut LocalizerList, localizer: &LocalizerData);
+        fn search(partial: &MeshData, localizers: &LocalizerList, top: usize, progress: &ProgressSink) -> Result<Vec<MatchData>>;
 
         fn gaussian_curvature(mesh: &MeshData, smoothed: bool) -> Result<Vec<f64>>;
         fn cotangent_stiffness(mesh: &MeshData) -> Result<TripletData>;
@@ -160,8 +189,11 @@ pub struct MeshData(HostMesh);
 /// The payload of the C++ `detail::OptionsData`.
 pub struct OptionsData(Options);
 
-/// The payload of the C++ `detail::LocalizerData`.
-pub struct LocalizerData(HostLocalizer);
+/// The payload of the C++ `detail::LocalizerData` (shared with the lists it is searched in).
+pub struct LocalizerData(Arc<HostLocalizer>);
+
+/// The payload of the C++ `detail::LocalizerList`.
+pub struct LocalizerList(Vec<Arc<HostLocalizer>>);
 
 thread_local! {
     static LAST_STATUS: Cell<i32> = const { Cell::new(0) };
@@ -300,7 +332,7 @@ fn progress_of(sink: &ffi::ProgressSink) -> Progress {
 }
 
 fn localizer_new(full: &MeshData, options: &OptionsData, progress: &ffi::ProgressSink) -> Result<Box<LocalizerData>, BridgeError> {
-    guarded(|| Ok(Box::new(LocalizerData(HostLocalizer::new(&full.0, &options.0, &progress_of(progress))?))))
+    guarded(|| Ok(Box::new(LocalizerData(Arc::new(HostLocalizer::new(&full.0, &options.0, &progress_of(progress))?)))))
 }
 
 fn localizer_locate(
@@ -309,6 +341,46 @@ fn localizer_locate(
     progress: &ffi::ProgressSink,
 ) -> Result<ffi::LocalizationData, BridgeError> {
     guarded(|| Ok(localization_data(localizer.0.locate(&partial.0, &progress_of(progress))?)))
+}
+
+fn localizer_save(localizer: &LocalizerData, path: &[u8]) -> Result<(), BridgeError> {
+    guarded(|| localizer.0.save(&crate::path_of(path, "the path")?))
+}
+
+fn localizer_load(path: &[u8]) -> Result<Box<LocalizerData>, BridgeError> {
+    guarded(|| Ok(Box::new(LocalizerData(Arc::new(HostLocalizer::load(&crate::path_of(path, "the path")?)?)))))
+}
+
+fn localizer_list_new() -> Box<LocalizerList> {
+    Box::new(LocalizerList(Vec::new()))
+}
+
+impl LocalizerList {
+    fn push(&mut self, localizer: &LocalizerData) {
+        guarded_value(|| (), || self.0.push(localizer.0.clone()))
+    }
+}
+
+fn search(
+    partial: &MeshData,
+    localizers: &LocalizerList,
+    top: usize,
+    progress: &ffi::ProgressSink,
+) -> Result<Vec<ffi::MatchData>, BridgeError> {
+    guarded(|| {
+        let fulls: Vec<&HostLocalizer> = localizers.0.iter().map(|l| l.as_ref()).collect();
+        let found = crate::search(&partial.0, &fulls, top, &progress_of(progress))?;
+        Ok(found
+            .into_iter()
+            .map(|m| ffi::MatchData {
+                index: m.index,
+                score: m.score,
+                located: m.localization.is_some(),
+                localization: m.localization.map(localization_data).unwrap_or_default(),
+                error: m.error.unwrap_or_default(),
+            })
+            .collect())
+    })
 }
 
 impl LocalizerData {
@@ -378,6 +450,7 @@ fn default_alpha() -> f64 {
 }
 
 fn localization_data(loc: Localization) -> ffi::LocalizationData {
+    let similarity_score = similarity_score_of(&loc);
     let t = &loc.timings;
     let timings = ffi::Timings {
         preparation: t.preparation,
@@ -398,6 +471,7 @@ fn localization_data(loc: Localization) -> ffi::LocalizationData {
         target_si: loc.target_si,
         cost: loc.cost,
         confidence: loc.confidence,
+        similarity_score,
         selected_start: loc.selected_start,
         n_starts: loc.n_starts,
         timings,

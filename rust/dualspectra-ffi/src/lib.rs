@@ -11,17 +11,20 @@
 //!
 //! Both share the (crate-private) types of this module: `HostMesh` (a mesh with the map back
 //! to the host's vertex numbering, when it came through the core's
-//! [`MeshIntake`]), `HostLocalizer` (the core's [`Localizer`] with the full mesh's map), and
-//! the conversion of results to the host's numbering.
+//! [`MeshIntake`]), `HostLocalizer` (the core's [`Localizer`] with the full mesh's map; saved
+//! and loaded with it), the search over several of them, and the conversion of results to the
+//! host's numbering.
 //!
 //! Built as `staticlib` (what CMake imports), `cdylib` and `rlib` (for the Rust tests).
 
 pub mod c_abi;
 pub mod cxx_bridge;
 
+use dualspectra::localizer::HostNumbering;
 use dualspectra::mesh::intake::MeshIntake;
 use dualspectra::shape::{Metric, Shape};
-use dualspectra::{Error, Localization, Localizer, Options, Progress, TriMesh};
+use dualspectra::{Error, Localization, Localizer, Match, Options, Progress, TriMesh};
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// A mesh handle's payload: the core's [`Shape`] (the mesh with its operators cached on first
@@ -71,7 +74,19 @@ impl HostMesh {
 
     /// The map of this mesh's results to the host's numbering.
     pub(crate) fn host_map(&self) -> HostMap {
-        HostMap { intake: self.intake.clone() }
+        match &self.intake {
+            Some(i) => HostMap::Intake(i.clone()),
+            None => HostMap::Identity,
+        }
+    }
+
+    /// Amounts at the host's indices, summed over a split vertex's copies
+    /// ([`MeshIntake::to_host_sum`]).
+    fn to_host_sum(&self, values: Vec<f64>) -> Vec<f64> {
+        match &self.intake {
+            Some(i) => i.to_host_sum(&values),
+            None => values,
+        }
     }
 
     /// Cotangent stiffness $W$ (cached), on the mesh's own vertices.
@@ -95,48 +110,61 @@ impl HostMesh {
 }
 
 /// How per-vertex results of one mesh go back to its host's numbering (cheap to clone: the
-/// intake is shared).
+/// map is shared).
 #[derive(Clone)]
-pub(crate) struct HostMap {
-    intake: Option<Arc<MeshIntake>>,
+pub(crate) enum HostMap {
+    /// The host's numbering is the mesh's (a strict mesh).
+    Identity,
+    /// Through the core's intake, with its note on what it left out or split.
+    Intake(Arc<MeshIntake>),
+    /// A loaded prepared shape's numbering ([`Localizer::host_numbering`]); the intake's note
+    /// is not part of the file.
+    Loaded(Arc<HostNumbering>),
 }
 
 impl HostMap {
     /// `values` (one per mesh vertex) at the host's indices; `fill` at left-out vertices; a
     /// split host vertex takes its first copy's value ([`MeshIntake::to_host`]).
     pub(crate) fn to_host<T: Clone>(&self, values: Vec<T>, fill: T) -> Vec<T> {
-        match &self.intake {
-            Some(i) => i.to_host(&values, fill),
-            None => values,
+        match self {
+            HostMap::Identity => values,
+            HostMap::Intake(i) => i.to_host(&values, fill),
+            HostMap::Loaded(h) => {
+                // As MeshIntake::to_host: backwards, so that the first copy is written last.
+                let mut out = vec![fill; h.n_host_vertices];
+                for (&host, v) in h.kept.iter().zip(values).rev() {
+                    out[host as usize] = v;
+                }
+                out
+            }
         }
     }
 
     /// A selection at the host's indices: a host vertex is selected if any of its copies is
-    /// ([`MeshIntake::to_host_any`]).
+    /// ([`MeshIntake::to_host_any`], [`HostNumbering::region_to_host`]).
     pub(crate) fn to_host_any(&self, selected: Vec<bool>) -> Vec<bool> {
-        match &self.intake {
-            Some(i) => i.to_host_any(&selected),
-            None => selected,
-        }
-    }
-
-    /// Amounts at the host's indices, summed over a split vertex's copies
-    /// ([`MeshIntake::to_host_sum`]).
-    pub(crate) fn to_host_sum(&self, values: Vec<f64>) -> Vec<f64> {
-        match &self.intake {
-            Some(i) => i.to_host_sum(&values),
-            None => values,
+        match self {
+            HostMap::Identity => selected,
+            HostMap::Intake(i) => i.to_host_any(&selected),
+            HostMap::Loaded(h) => h.region_to_host(&selected),
         }
     }
 
     /// Vertices in the host's numbering, for a mesh of `n_mesh` vertices.
     pub(crate) fn n_vertices(&self, n_mesh: usize) -> usize {
-        self.intake.as_ref().map_or(n_mesh, |i| i.n_host_vertices)
+        match self {
+            HostMap::Identity => n_mesh,
+            HostMap::Intake(i) => i.n_host_vertices,
+            HostMap::Loaded(h) => h.n_host_vertices,
+        }
     }
 
     /// What the intake left out, as a sentence about `what` ("full mesh").
     pub(crate) fn warning(&self, what: &str) -> Option<String> {
-        self.intake.as_ref().and_then(|i| i.warning(what))
+        match self {
+            HostMap::Intake(i) => i.warning(what),
+            HostMap::Identity | HostMap::Loaded(_) => None,
+        }
     }
 }
 
@@ -149,8 +177,28 @@ pub(crate) struct HostLocalizer {
 }
 
 impl HostLocalizer {
+    /// Prepare `full`; the core localizer keeps the host's numbering, so that a saved shape
+    /// loads with it ([`HostLocalizer::load`]).
     pub(crate) fn new(full: &HostMesh, options: &Options, progress: &Progress) -> Result<Self, Error> {
-        Ok(HostLocalizer { localizer: Localizer::with_progress(full.mesh(), options, progress)?, full: full.host_map() })
+        let mut localizer = Localizer::with_progress(full.mesh(), options, progress)?;
+        if let Some(i) = &full.intake {
+            localizer.set_host_numbering(Some(HostNumbering { n_host_vertices: i.n_host_vertices, kept: i.kept.clone() }))?;
+        }
+        Ok(HostLocalizer { localizer, full: full.host_map() })
+    }
+
+    /// A prepared shape saved by [`HostLocalizer::save`] (or `dualspectra prepare`), with the
+    /// host numbering it was saved with ([`Localizer::load`]: a foreign, stale or damaged file
+    /// is an [`Error::PreparedShape`]).
+    pub(crate) fn load(path: &Path) -> Result<Self, Error> {
+        let localizer = Localizer::load(path)?;
+        let full = localizer.host_numbering().map_or(HostMap::Identity, |h| HostMap::Loaded(Arc::new(h.clone())));
+        Ok(HostLocalizer { localizer, full })
+    }
+
+    /// Write the prepared shape, with the host's numbering, to `path` ([`Localizer::save`]).
+    pub(crate) fn save(&self, path: &Path) -> Result<(), Error> {
+        self.localizer.save(path)
     }
 
     /// Locate `partial`; the result in the host's numbering of the full mesh.
@@ -172,6 +220,22 @@ impl HostLocalizer {
     pub(crate) fn warnings(&self) -> Vec<String> {
         self.full.warning("full mesh").into_iter().chain(self.localizer.warnings().iter().cloned()).collect()
     }
+}
+
+/// Rank the prepared full shapes for `partial` ([`dualspectra::search()`]): the `top` best
+/// matches, best first, each localization in the host's numbering of its full mesh; `top`
+/// 0 is refused (it would compute everything to keep nothing).
+pub(crate) fn search(partial: &HostMesh, fulls: &[&HostLocalizer], top: usize, progress: &Progress) -> Result<Vec<Match>, Error> {
+    if top == 0 {
+        return Err(Error::InvalidArgument("top is 0: keep at least one match (the number of shapes or more keeps all)".into()));
+    }
+    let cores: Vec<&Localizer> = fulls.iter().map(|f| &f.localizer).collect();
+    let mut found = dualspectra::search(partial.mesh(), &cores, top, progress)?;
+    let partial_map = partial.host_map();
+    for m in &mut found {
+        m.localization = m.localization.take().map(|loc| to_host(loc, &fulls[m.index].full, &partial_map));
+    }
+    Ok(found)
 }
 
 /// Find the region of `full` that `partial` is, in one call ([`dualspectra::localize`]); the
@@ -204,6 +268,7 @@ pub(crate) fn status_of(e: &Error) -> c_abi::ds_status {
         Error::Io { .. } | Error::Parse { .. } => c_abi::DS_IO,
         Error::InvalidMeshFile { .. } | Error::InvalidMesh(_) => c_abi::DS_INVALID_MESH,
         Error::InvalidArgument(_) => c_abi::DS_INVALID_ARGUMENT,
+        Error::PreparedShape { .. } => c_abi::DS_INVALID_PREPARED_SHAPE,
         Error::Numerical(_) => c_abi::DS_NUMERICAL,
         Error::Cancelled => c_abi::DS_CANCELLED,
         _ => c_abi::DS_NUMERICAL,
@@ -248,6 +313,23 @@ pub(crate) fn set_option(options: &mut Options, name: &str, value: serde_json::V
     Ok(())
 }
 
+/// A path from the bytes of its name (`what` names it in errors): any bytes on Unix, as the
+/// file system takes them; UTF-8 elsewhere. Empty is refused.
+pub(crate) fn path_of(bytes: &[u8], what: &str) -> Result<PathBuf, Error> {
+    if bytes.is_empty() {
+        return Err(Error::InvalidArgument(format!("{what} is empty")));
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::ffi::OsStrExt;
+        Ok(PathBuf::from(std::ffi::OsStr::from_bytes(bytes)))
+    }
+    #[cfg(not(unix))]
+    {
+        std::str::from_utf8(bytes).map(PathBuf::from).map_err(|_| Error::InvalidArgument(format!("{what} is not valid UTF-8")))
+    }
+}
+
 /// `major * 10000 + minor * 100 + patch` of this crate.
 pub(crate) fn version_number() -> u32 {
     let mut parts = env!("CARGO_PKG_VERSION").split(['.', '-']).map(|p| p.parse::<u32>().unwrap_or(0));
@@ -273,7 +355,7 @@ pub(crate) fn spectrum(mesh: &HostMesh, k: usize, metric: Metric, alpha: f64) ->
 /// vertices; a split vertex's copies summed, so the total is the mesh's).
 pub(crate) fn mass(mesh: &HostMesh, metric: Metric, alpha: f64) -> Result<Vec<f64>, Error> {
     let m = mesh.with_metric(metric, alpha, |s| Ok(s.metric_mass(metric).to_vec()))?;
-    Ok(mesh.host_map().to_host_sum(m))
+    Ok(mesh.to_host_sum(m))
 }
 
 /// The Hamiltonian eigenvalues at the optimum (`target = false`) or the partial shape's

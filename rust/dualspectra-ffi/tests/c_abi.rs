@@ -46,13 +46,14 @@ fn version_is_the_crate_version() {
 
 #[test]
 fn status_names_are_distinct() {
-    let names: Vec<String> = (0..=8)
+    let names: Vec<String> = (0..=9)
         .map(|s| unsafe { CStr::from_ptr(ds_status_name(s)) }.to_string_lossy().into_owned())
         .collect();
     assert_eq!(names[0], "DS_OK");
     assert_eq!(names[2], "DS_INVALID_MESH");
     assert_eq!(names[7], "DS_OUT_OF_MEMORY");
-    assert_eq!(names[8], "DS_UNKNOWN_STATUS");
+    assert_eq!(names[8], "DS_INVALID_PREPARED_SHAPE");
+    assert_eq!(names[9], "DS_UNKNOWN_STATUS");
     let mut unique = names.clone();
     unique.sort();
     unique.dedup();

@@ -241,3 +241,44 @@ fn hostile_10_handles_used_from_several_threads_keep_working() {
     });
     unsafe { ds_mesh_destroy(shared.0) };
 }
+
+#[test]
+fn hostile_10_results_a_ranking_owns_are_borrowed_not_released() {
+    let _serial = serial();
+    let full = icosphere(2);
+    let cap = TriMesh::new_dropping_isolated(
+        full.vertices().to_vec(),
+        full.faces().iter().filter(|f| f.iter().all(|&i| full.vertices()[i as usize][2] > 0.4)).copied().collect(),
+    )
+    .unwrap()
+    .0;
+    let (hf, hp) = (create(&full), create(&cap));
+    let o = create_options();
+    let json = CString::new(r#"{"k": 6, "centers": 1, "max_iterations": 5, "resolution": 0}"#).unwrap();
+    let (mut l, mut s) = (ptr::null_mut(), ptr::null_mut());
+    unsafe {
+        assert_eq!(ds_options_set_json(o, json.as_ptr()), DS_OK, "{}", last_error());
+        assert_eq!(ds_localizer_create(hf, o, None, ptr::null_mut(), &mut l), DS_OK, "{}", last_error());
+        let ls = [l as *const ds_localizer];
+        assert_eq!(ds_search(ls.as_ptr(), 1, hp, 1, None, ptr::null_mut(), &mut s), DS_OK, "{}", last_error());
+        let r = ds_search_result_result(s, 0) as *mut ds_result;
+        assert_eq!(ds_result_n_vertices(r), full.n_vertices());
+        // Releasing a borrowed result is refused; it stays readable.
+        ds_result_destroy(r);
+        let msg = last_error();
+        assert!(msg.starts_with("ds_result_destroy:") && msg.contains("belongs to a ds_search_result"), "{msg}");
+        assert_eq!(ds_result_n_vertices(r), full.n_vertices());
+        // Released with its ranking: then no longer live (and never read).
+        ds_search_result_destroy(s);
+        assert_eq!(ds_result_n_vertices(r), 0);
+        assert!(last_error().contains("is not a live ds_result handle"), "{}", last_error());
+        let mut count = 0usize;
+        assert_eq!(ds_search_result_index(s, 0, &mut count), DS_INVALID_ARGUMENT);
+        ds_search_result_destroy(s);
+        assert!(last_error().starts_with("ds_search_result_destroy:"), "{}", last_error());
+        ds_localizer_destroy(l);
+        ds_options_destroy(o);
+        ds_mesh_destroy(hf);
+        ds_mesh_destroy(hp);
+    }
+}
