@@ -37,8 +37,10 @@ pub struct Match {
 /// found in the region the spectra chose. SHOT descriptors have unit norm and both shapes are
 /// scaled to unit full-shape area, so $s \in [0, \sqrt 2]$ compares across full shapes of
 /// any size and meshing (at the same `resolution`). Measured against the region's spectral
-/// misfit, the descriptor projection, the confidence and combinations, it ranked best on
-/// every dev set (docs/benchmarks/search-2026-12-02.md). `+inf` when unknown (an empty region).
+/// misfit, the descriptor projection, the confidence and combinations, it ranked best on the
+/// dev sets (docs/benchmarks/search-2026-12-02.md: the right model first for every SHREC'16
+/// partial measured; among people of one PFAUST set only by 1-3 %). `+inf` when unknown (an
+/// empty region).
 pub fn similarity_score_of(localization: &Localization) -> f64 {
     localization
         .candidates

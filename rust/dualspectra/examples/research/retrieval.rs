@@ -18,7 +18,7 @@ use dualspectra::evaluation::datasets::Dataset;
 use dualspectra::evaluation::metrics::{scores, symmetry_aware};
 use dualspectra::evaluation::similarity::{dual_shape_dna, Descriptor};
 use dualspectra::mesh::io::{read_mesh_with_report, ReadOptions};
-use dualspectra::selection::{agreement, CandidateScore};
+use dualspectra::selection::{agreement, CandidateScore, REGION_COST_FLOOR_RMS, REGION_COST_GATE};
 use dualspectra::search::similarity_score_of;
 use dualspectra::{Candidate, Localization, Localizer, Options, Progress};
 use serde::{Deserialize, Serialize};
@@ -257,6 +257,18 @@ const SCORERS: &[Scorer] = &[
     ("partial_fit (chosen)", |p| finite(chosen(p)?.scores.partial_fit)),
     ("min partial_fit", |p| {
         let m = p.candidates.iter().filter_map(|c| finite(c.scores.partial_fit)).fold(f64::INFINITY, f64::min);
+        finite(Some(m))
+    }),
+    ("min partial_fit, gated", |p| {
+        // Among the candidates the selection's region-cost gate admits.
+        let best = p.candidates.iter().filter_map(|c| finite(c.scores.region_cost)).fold(f64::INFINITY, f64::min);
+        let gate = (REGION_COST_GATE * best).max(n_mu(p) * REGION_COST_FLOOR_RMS.powi(2));
+        let m = p
+            .candidates
+            .iter()
+            .filter(|c| c.scores.region_cost.is_some_and(|r| r <= gate))
+            .filter_map(|c| finite(c.scores.partial_fit))
+            .fold(f64::INFINITY, f64::min);
         finite(Some(m))
     }),
     ("descriptor_score (chosen)", |p| finite(chosen(p)?.scores.descriptor_score)),
