@@ -3,36 +3,17 @@
 //! Light localizer settings (`--k 6 --centers 2 --iterations 30`) keep them fast; the
 //! checks are on the output schema and the laws of the scores, not on a result value.
 
+mod common;
+
+use common::{bin, run};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Command;
 use std::sync::OnceLock;
 
 const LIGHT: [&str; 6] = ["--k", "6", "--centers", "2", "--iterations", "30"];
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_dualspectra"))
-}
-
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!(
-        "dualspectra_cli_localize_{}_{name}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn run(cmd: &mut Command) -> Output {
-    let out = cmd.output().expect("run dualspectra");
-    assert!(
-        out.status.success(),
-        "{:?} failed: {}\n{}",
-        cmd,
-        String::from_utf8_lossy(&out.stderr),
-        String::from_utf8_lossy(&out.stdout)
-    );
-    out
+    common::scratch("cli_localize", name)
 }
 
 /// The demo folder, built once for all tests.

@@ -6,33 +6,16 @@
 use dualspectra::evaluation::synthetic::{figure, synthetic_pair, Limb, SyntheticParams};
 use dualspectra::mesh::io::write_off;
 use serde_json::Value;
+mod common;
+
+use common::{bin, run};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 use std::sync::OnceLock;
 
 const LIGHT: [&str; 8] = ["--k", "6", "--centers", "2", "--iterations", "10", "--threads", "2"];
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_dualspectra"))
-}
-
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("dualspectra_cli_search_{}_{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn run(cmd: &mut Command) -> Output {
-    let out = cmd.output().expect("run dualspectra");
-    assert!(
-        out.status.success(),
-        "{:?} failed: {}\n{}",
-        cmd,
-        String::from_utf8_lossy(&out.stderr),
-        String::from_utf8_lossy(&out.stdout)
-    );
-    out
+    common::scratch("cli_search", name)
 }
 
 fn read_json(path: &Path) -> Value {
