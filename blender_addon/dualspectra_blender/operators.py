@@ -212,6 +212,13 @@ class JobOperator:
     #: The library's options table this class was built from (set by :func:`operator_class`).
     options_schema = ()
 
+    @classmethod
+    def _refuse(cls, message):
+        """``poll``'s ``False``, with its reason shown where Blender can (3.0+)."""
+        if hasattr(cls, "poll_message_set"):
+            cls.poll_message_set(message)
+        return False
+
     def _start(self, context, on_progress=None):
         try:
             return self._prepare(context, on_progress)
@@ -302,9 +309,7 @@ class LocalizeOperator(JobOperator):
     def poll(cls, context):
         ob = context.active_object
         if ob is None or ob.type != 'MESH':
-            if hasattr(cls, "poll_message_set"):
-                cls.poll_message_set("The active object must be a mesh (the full shape)")
-            return False
+            return cls._refuse("The active object must be a mesh (the full shape)")
         return True
 
     def draw(self, context):
@@ -388,13 +393,9 @@ class SearchOperator(JobOperator):
     def poll(cls, context):
         ob = context.active_object
         if ob is None or ob.type != 'MESH':
-            if hasattr(cls, "poll_message_set"):
-                cls.poll_message_set("The active object must be a mesh (the partial shape)")
-            return False
+            return cls._refuse("The active object must be a mesh (the partial shape)")
         if not candidate_objects(context):
-            if hasattr(cls, "poll_message_set"):
-                cls.poll_message_set("Select the candidate meshes too (the active one is the partial shape)")
-            return False
+            return cls._refuse("Select the candidate meshes too (the active one is the partial shape)")
         return True
 
     def draw(self, context):
