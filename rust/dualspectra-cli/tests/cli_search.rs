@@ -176,4 +176,9 @@ fn a_stale_or_foreign_prepared_file_is_a_clear_error() {
     let truncated = d.join("cut.dsprep");
     std::fs::write(&truncated, &std::fs::read(&good).unwrap()[..1000]).unwrap();
     assert!(search_error(&truncated).contains("truncated"));
+    // Shapes are opened one at a time, but a missing one is reported before any work.
+    let out = bin().args(["search", "--quiet"]).arg(library().join("partial.off")).arg(&good).arg(d.join("missing.off")).output().unwrap();
+    assert_eq!(out.status.code(), Some(3));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.starts_with("error: ") && err.contains("missing.off"), "{err}");
 }

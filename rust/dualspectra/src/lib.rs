@@ -34,7 +34,7 @@ pub use error::{Error, MeshError, Result};
 pub use localizer::{localize, localize_with_initial_regions, Candidate, Localization, Localizer, Mode, Options, Timings};
 pub use mesh::TriMesh;
 pub use progress::Progress;
-pub use search::{search, Match};
+pub use search::{search, search_with, Match};
 
 /// The README's Rust example, compiled and run as a doc test.
 #[cfg(doctest)]

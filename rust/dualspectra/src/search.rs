@@ -12,11 +12,12 @@ use crate::localizer::{Localization, Localizer};
 use crate::mesh::TriMesh;
 use crate::progress::Progress;
 use serde::{Deserialize, Serialize};
+use std::borrow::Borrow;
 
 /// One full shape's answer for a partial.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Match {
-    /// Index of the full shape in the slice searched.
+    /// Index of the full shape searched (in the slice, or as given to `open`).
     pub index: usize,
     /// [`similarity_score_of`] the localization; lower is more similar; `+inf` when the
     /// partial could not be located on this shape.
@@ -55,18 +56,39 @@ pub fn similarity_score_of(localization: &Localization) -> f64 {
 /// A shape the partial cannot be located on ranks last with its `error`; if that is every
 /// shape, the first shape's error is returned. Progress is split evenly over the shapes;
 /// cancelling returns [`Error::Cancelled`]. Only the `top` best localizations are kept in
-/// memory while searching.
+/// memory while searching. [`search_with`] with the shapes already open.
 pub fn search(partial: &TriMesh, fulls: &[&Localizer], top: usize, progress: &Progress) -> Result<Vec<Match>> {
-    let n = fulls.len();
+    search_with(partial, fulls.len(), |i, _| Ok::<_, Error>(fulls[i]), top, progress)
+}
+
+/// [`search`] over `n` shapes opened one at a time: shape `i` is `open(i, progress)`, called
+/// in order just before locating on it and dropped right after, so memory holds one prepared
+/// shape plus the `top` kept localizations. An error of `open` stops the search and is
+/// returned as is. Each shape's progress span gives its first 10 % to `open`.
+pub fn search_with<L, E>(
+    partial: &TriMesh,
+    n: usize,
+    mut open: impl FnMut(usize, &Progress) -> std::result::Result<L, E>,
+    top: usize,
+    progress: &Progress,
+) -> std::result::Result<Vec<Match>, E>
+where
+    L: Borrow<Localizer>,
+    E: From<Error>,
+{
     let mut kept: Vec<Match> = Vec::new();
     let mut first_error = None;
     let mut failures = 0;
-    for (index, localizer) in fulls.iter().enumerate() {
+    for index in 0..n {
         let part = progress.sub(index as f64 / n as f64, (index + 1) as f64 / n as f64);
         part.report(0.0, "searching")?;
-        let m = match localizer.locate(partial, &part) {
+        let located = {
+            let shape = open(index, &part.sub(0.0, 0.1))?;
+            shape.borrow().locate(partial, &part.sub(0.1, 1.0))
+        };
+        let m = match located {
             Ok(localization) => Match { index, score: similarity_score_of(&localization), localization: Some(localization), error: None },
-            Err(Error::Cancelled) => return Err(Error::Cancelled),
+            Err(Error::Cancelled) => return Err(Error::Cancelled.into()),
             Err(e) => {
                 failures += 1;
                 let m = Match { index, score: f64::INFINITY, localization: None, error: Some(e.to_string()) };
@@ -80,7 +102,7 @@ pub fn search(partial: &TriMesh, fulls: &[&Localizer], top: usize, progress: &Pr
     }
     if failures == n {
         if let Some(e) = first_error {
-            return Err(e);
+            return Err(e.into());
         }
     }
     progress.report(1.0, "searched")?;

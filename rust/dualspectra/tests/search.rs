@@ -1,10 +1,13 @@
 //! Laws of the search over several full shapes (`search.rs`) on a small generated library:
 //! the model the partial was cut from ranks first, ties go to the lower index, a shape the
-//! partial cannot be on ranks last, and the search can be cancelled.
+//! partial cannot be on ranks last, the search can be cancelled, and `search_with` (shapes
+//! opened one at a time) answers as `search`.
 
 use dualspectra::evaluation::synthetic::{figure, synthetic_pair, Limb, SyntheticPair, SyntheticParams};
 use dualspectra::search::similarity_score_of;
-use dualspectra::{search, Error, Localizer, Options, Progress, TriMesh};
+use dualspectra::{search, search_with, Error, Localizer, Match, Options, Progress, TriMesh};
+use std::borrow::Borrow;
+use std::cell::Cell;
 use std::sync::OnceLock;
 
 fn light() -> Options {
@@ -105,4 +108,53 @@ fn a_shape_the_partial_cannot_be_on_ranks_last_and_cancelling_stops() {
     assert!(err.to_string().contains("cannot be a part of it"), "{err}");
     let stop = Progress::new(|_, _| false);
     assert!(matches!(search(&pair().partial, &[right], 1, &stop), Err(Error::Cancelled)));
+}
+
+/// A shape handed out by `open`, counting how many are alive.
+struct Opened<'a> {
+    shape: &'a Localizer,
+    alive: &'a Cell<usize>,
+}
+
+impl Borrow<Localizer> for Opened<'_> {
+    fn borrow(&self) -> &Localizer {
+        self.shape
+    }
+}
+
+impl Drop for Opened<'_> {
+    fn drop(&mut self) {
+        self.alive.set(self.alive.get() - 1);
+    }
+}
+
+#[test]
+fn search_with_opens_one_shape_at_a_time_and_answers_as_search() {
+    let shapes: Vec<&Localizer> = library().iter().collect();
+    let alive = Cell::new(0);
+    let mut opened = Vec::new();
+    let open = |i: usize, _: &Progress| {
+        assert_eq!(alive.get(), 0, "the previous shape is dropped before the next is opened");
+        opened.push(i);
+        alive.set(alive.get() + 1);
+        Ok::<_, Error>(Opened { shape: shapes[i], alive: &alive })
+    };
+    let found = search_with(&pair().partial, 3, open, 2, &Progress::none()).unwrap();
+    assert_eq!(opened, [0, 1, 2], "each shape opened once, in order");
+    assert_eq!(alive.get(), 0);
+    let expected = search(&pair().partial, &shapes, 2, &Progress::none()).unwrap();
+    let key = |m: &Match| (m.index, m.score.to_bits(), m.localization.as_ref().map(|l| l.region.clone()), m.error.clone());
+    assert_eq!(found.iter().map(key).collect::<Vec<_>>(), expected.iter().map(key).collect::<Vec<_>>());
+    // An error of `open` stops the search and is returned as is.
+    let mut calls = Vec::new();
+    let open = |i: usize, _: &Progress| {
+        calls.push(i);
+        if i == 1 {
+            return Err(Error::InvalidArgument("no shape 1".into()));
+        }
+        Ok(shapes[i])
+    };
+    let err = search_with(&pair().partial, 3, open, 2, &Progress::none()).unwrap_err();
+    assert!(matches!(&err, Error::InvalidArgument(m) if m == "no shape 1"), "{err}");
+    assert_eq!(calls, [0, 1]);
 }

@@ -1,7 +1,7 @@
 //! `dualspectra search PARTIAL FULL... [--top N] [--json OUT] [--ply-dir DIR] [localize options]`
 //!
 //! Which of the full shapes is PARTIAL a part of, and where: the partial is located on each
-//! (`dualspectra::search`) and the shapes are ranked by the similarity score
+//! (`dualspectra::search_with`) and the shapes are ranked by the similarity score
 //! (`dualspectra::search::similarity_score_of`, lower is more similar; docs/algorithm.md,
 //! "Searching several full shapes"). A FULL may be a mesh (.off, .obj, .ply: prepared
 //! here with the options given), a prepared shape (.dsprep from `dualspectra prepare`:
@@ -10,14 +10,19 @@
 //! of the `--top N` best (default: all); `--json` writes them with each region (0-based
 //! vertex indices of that FULL file), `--ply-dir` each one's FULL with its region in red
 //! (`<rank>_<name>.ply`). A progress bar runs over the shapes on standard error.
+//!
+//! Shapes are opened (loaded or prepared) one at a time during the search and dropped after,
+//! so memory holds one prepared shape plus the kept localizations; the ranked shapes are
+//! opened again afterwards for what the output needs (a mesh file is read, not prepared).
 
 use super::localize::{progress_bar, region_indices, write_region_ply, LocalizeOptions};
-use super::prepare::prepare_file;
+use super::prepare::{host_numbering, prepare_file};
 use crate::error::CliError;
 use crate::input::read_input_mesh;
 use crate::output::{check_output_path, print_stdout, to_json_line, write_text};
 use dualspectra::localizer::persist::EXTENSION;
-use dualspectra::{Localizer, Match, Options, TriMesh};
+use dualspectra::localizer::HostNumbering;
+use dualspectra::{Localizer, Match, Options, Progress, TriMesh};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -80,30 +85,58 @@ pub fn expand_fulls(args: &[PathBuf]) -> Result<Vec<PathBuf>, CliError> {
     Ok(out)
 }
 
-/// One full shape of the search: its file, the prepared shape, and the mesh to draw on.
-struct Full {
+/// One full shape of the search: its file and name (the shape itself is open only while
+/// it is searched).
+struct Shape {
     path: PathBuf,
     name: String,
-    localizer: Localizer,
-    mesh: TriMesh,
 }
 
 /// Load a `.dsprep` or read and prepare a mesh file.
-fn open_full(path: &Path, options: &Options, threads: Option<usize>, args: &Args) -> Result<Full, CliError> {
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+fn open_full(path: &Path, options: &Options, threads: Option<usize>, drop_isolated: bool, progress: &Progress) -> Result<Localizer, CliError> {
     if has_extension(path, EXTENSION) {
         let mut localizer = Localizer::load(path)?;
         if let Some(t) = threads {
             localizer.set_threads(t)?;
         }
-        let mesh = localizer.full_mesh();
-        return Ok(Full { path: path.to_path_buf(), name, localizer, mesh });
+        return Ok(localizer);
     }
-    let (bar, progress) = progress_bar(args.quiet, &format!("prepare {name}"));
-    let prepared = prepare_file(path, options, args.drop_isolated, &progress);
-    bar.finish_and_clear();
-    let (localizer, mesh) = prepared?;
-    Ok(Full { path: path.to_path_buf(), name, localizer, mesh })
+    Ok(prepare_file(path, options, drop_isolated, progress)?.0)
+}
+
+/// What the output needs of a ranked shape, opened again after the search: the file's
+/// numbering of its vertices (if reading changed it), its vertex count, and its mesh (for
+/// `--ply-dir`).
+struct Reopened {
+    host: Option<HostNumbering>,
+    n_vertices: usize,
+    mesh: Option<TriMesh>,
+}
+
+/// Load a `.dsprep` again, or read a mesh file again (without preparing it).
+fn reopen(path: &Path, drop_isolated: bool, with_mesh: bool) -> Result<Reopened, CliError> {
+    if has_extension(path, EXTENSION) {
+        let localizer = Localizer::load(path)?;
+        let mesh = with_mesh.then(|| localizer.full_mesh());
+        return Ok(Reopened { host: localizer.host_numbering().cloned(), n_vertices: localizer.n_vertices(), mesh });
+    }
+    let (mesh, report) = read_input_mesh(path, drop_isolated)?;
+    Ok(Reopened { host: host_numbering(&mesh, &report), n_vertices: mesh.n_vertices(), mesh: with_mesh.then_some(mesh) })
+}
+
+impl Reopened {
+    /// The region of a match in the file's numbering, and the file's vertex count.
+    fn file_region(&self, region: &[bool]) -> (Vec<usize>, usize) {
+        match &self.host {
+            Some(h) => (region_indices(&h.region_to_host(region)), h.n_host_vertices),
+            None => (region_indices(region), region.len()),
+        }
+    }
+
+    /// The file's vertex count.
+    fn file_vertices(&self) -> usize {
+        self.host.as_ref().map_or(self.n_vertices, |h| h.n_host_vertices)
+    }
 }
 
 /// One ranked shape in the JSON.
@@ -133,14 +166,6 @@ struct Output<'a> {
     ranking: Vec<Ranked<'a>>,
 }
 
-/// The region of a match in the file's numbering of its shape, and that shape's vertex count.
-fn file_region(full: &Full, region: &[bool]) -> (Vec<usize>, usize) {
-    match full.localizer.host_numbering() {
-        Some(h) => (region_indices(&h.region_to_host(region)), h.n_host_vertices),
-        None => (region_indices(region), region.len()),
-    }
-}
-
 pub fn run(args: Args) -> Result<(), CliError> {
     let options = args.options.to_options()?;
     let threads = args.options.given_names().contains(&"threads").then_some(options.threads);
@@ -157,32 +182,59 @@ pub fn run(args: Args) -> Result<(), CliError> {
         eprintln!("warning: prepared shapes (.{EXTENSION}) keep the options they were prepared with; the options given apply to the meshes only");
     }
     let (partial, _) = read_input_mesh(&args.partial, args.drop_isolated)?;
-    let t = Instant::now();
-    let fulls = paths.iter().map(|p| open_full(p, &options, threads, &args)).collect::<Result<Vec<_>, _>>()?;
-    let same = |o: &Options| Options { threads: 0, ..o.clone() };
-    if let Some(f) = fulls.iter().find(|f| same(f.localizer.options()) != same(fulls[0].localizer.options())) {
-        eprintln!(
-            "warning: {} and {} were prepared with different options; scores compare best under the same options",
-            fulls[0].name, f.name
-        );
+    // Shapes are opened one at a time during the search: a missing or unreadable file is
+    // reported now, before any work, not when its turn comes.
+    for path in &paths {
+        std::fs::File::open(path).map_err(|source| CliError::Core(dualspectra::Error::Io { path: path.clone(), source }))?;
     }
-    let shapes: Vec<&Localizer> = fulls.iter().map(|f| &f.localizer).collect();
+    let shapes: Vec<Shape> = paths
+        .iter()
+        .map(|p| Shape { path: p.clone(), name: p.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default() })
+        .collect();
+    let t = Instant::now();
     let (bar, progress) = progress_bar(args.quiet, "search");
-    let found = dualspectra::search(&partial, &shapes, args.top.unwrap_or(usize::MAX), &progress);
+    let same = |o: &Options| Options { threads: 0, ..o.clone() };
+    let mut first_options = None;
+    let mut warned = false;
+    let open = |i: usize, progress: &Progress| {
+        let localizer = open_full(&shapes[i].path, &options, threads, args.drop_isolated, progress)?;
+        let o = same(localizer.options());
+        match &first_options {
+            None => first_options = Some(o),
+            Some(first) if *first != o && !warned => {
+                warned = true;
+                bar.suspend(|| {
+                    eprintln!(
+                        "warning: {} and {} were prepared with different options; scores compare best under the same options",
+                        shapes[0].name, shapes[i].name
+                    )
+                });
+            }
+            Some(_) => {}
+        }
+        Ok::<_, CliError>(localizer)
+    };
+    let found = dualspectra::search_with(&partial, shapes.len(), open, args.top.unwrap_or(usize::MAX), &progress);
     bar.finish_and_clear();
     let found: Vec<Match> = found?;
     let seconds = t.elapsed().as_secs_f64();
     let mut ranking = Vec::new();
     for (i, m) in found.iter().enumerate() {
-        let full = &fulls[m.index];
+        let shape = &shapes[m.index];
         let loc = m.localization.as_ref();
+        let full = reopen(&shape.path, args.drop_isolated, args.ply_dir.is_some() && loc.is_some())?;
         let (region, n_vertices) = match loc {
-            Some(l) => file_region(full, &l.region),
-            None => (Vec::new(), full.localizer.host_numbering().map_or(full.localizer.n_vertices(), |h| h.n_host_vertices)),
+            Some(l) => full.file_region(&l.region),
+            None => (Vec::new(), full.file_vertices()),
         };
+        let rank = i + 1;
+        if let (Some(dir), Some(l), Some(mesh)) = (&args.ply_dir, loc, &full.mesh) {
+            let stem = Path::new(&shape.name).file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+            write_region_ply(&dir.join(format!("{rank}_{stem}.ply")), mesh, &l.region)?;
+        }
         ranking.push(Ranked {
-            rank: i + 1,
-            shape: &full.path,
+            rank,
+            shape: &shape.path,
             score: m.score.is_finite().then_some(m.score),
             region_vertices: region.len(),
             n_vertices,
@@ -193,20 +245,10 @@ pub fn run(args: Args) -> Result<(), CliError> {
             warnings: loc.map_or(&[], |l| l.warnings.as_slice()),
         });
     }
-    if let Some(dir) = &args.ply_dir {
-        for (r, m) in ranking.iter().zip(&found) {
-            if let Some(loc) = &m.localization {
-                let full = &fulls[m.index];
-                let stem = Path::new(&full.name).file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-                let path = dir.join(format!("{}_{stem}.ply", r.rank));
-                write_region_ply(&path, &full.mesh, &loc.region)?;
-            }
-        }
-    }
-    let name_width = ranking.iter().map(|r| fulls[found[r.rank - 1].index].name.len()).max().unwrap_or(5).max(5);
+    let name_width = ranking.iter().map(|r| shapes[found[r.rank - 1].index].name.len()).max().unwrap_or(5).max(5);
     let mut table = format!("{:>4}  {:<name_width$}  {:>10}  {:>16}  {:>10}\n", "rank", "shape", "score", "region", "confidence");
     for (r, m) in ranking.iter().zip(&found) {
-        let name = &fulls[m.index].name;
+        let name = &shapes[m.index].name;
         match (r.score, r.confidence) {
             (Some(score), Some(confidence)) => table.push_str(&format!(
                 "{:>4}  {name:<name_width$}  {score:>10.4e}  {:>16}  {confidence:>10.2}\n",
@@ -218,7 +260,7 @@ pub fn run(args: Args) -> Result<(), CliError> {
     }
     for (r, m) in ranking.iter().zip(&found) {
         for w in r.warnings {
-            eprintln!("warning: {}: {w}", fulls[m.index].name);
+            eprintln!("warning: {}: {w}", shapes[m.index].name);
         }
     }
     let out = Output { partial: &args.partial, shapes: paths.iter().map(PathBuf::as_path).collect(), seconds, ranking };
