@@ -294,3 +294,23 @@ fn one_localizer_locates_several_partials_as_one_call_does() {
         }
     }
 }
+
+/// The same inputs give the same result on any number of threads: every dense decomposition
+/// runs sequentially (faer's default parallelism follows the calling thread pool, and its
+/// parallel reductions round differently). With faer's default, this pair gave different
+/// costs on 1 and 2 threads.
+#[test]
+fn results_do_not_depend_on_the_thread_count() {
+    let full = bumpy_sphere(3);
+    let (part, _) = cut(&full, |p| p[0] + 0.3 * p[1] > 0.2);
+    let on = |threads| {
+        let options = Options { k: 20, centers: 2, max_iterations: 6, plane_cuts: 2, resolution: 0, threads, ..Options::default() };
+        localize(&full, &part, &options, &Progress::none()).unwrap()
+    };
+    let (one, two) = (on(1), on(2));
+    assert_eq!(one.cost.to_bits(), two.cost.to_bits(), "cost {} on 1 thread, {} on 2", one.cost, two.cost);
+    assert_eq!(one.region, two.region);
+    for (a, b) in one.candidates.iter().zip(&two.candidates) {
+        assert_eq!(a.cost.to_bits(), b.cost.to_bits(), "{}: {} against {}", a.label, a.cost, b.cost);
+    }
+}

@@ -26,7 +26,7 @@
 use crate::error::{Error, Result};
 use crate::mesh::TriMesh;
 use crate::shape::{Metric, Shape};
-use faer::{Mat, Side};
+use faer::Mat;
 use serde::{Deserialize, Serialize};
 
 /// The $k$ smallest nonzero eigenvalues of both metrics, with the metric areas.
@@ -197,10 +197,7 @@ pub fn classical_mds(distances: &[Vec<f64>], dim: usize) -> Result<Mds> {
     let b = Mat::<f64>::from_fn(n, n, |i, j| {
         -0.5 * (d2[(i, j)] - row_mean[i] - row_mean[j] + all_mean)
     });
-    let evd = b
-        .self_adjoint_eigen(Side::Lower)
-        .map_err(|e| Error::Numerical(format!("MDS eigendecomposition failed: {e:?}")))?;
-    let (u, s) = (evd.U(), evd.S().column_vector());
+    let (s, u) = crate::spectra::symmetric_eigen(b.as_ref()).map_err(|e| Error::Numerical(format!("MDS eigendecomposition failed: {e:?}")))?;
     // Ascending order: the top `dim` are the last ones.
     let mut coords = vec![vec![0.0; dim]; n];
     let mut eigenvalues = Vec::with_capacity(dim);

@@ -19,7 +19,8 @@ use super::factor::ShiftedFactor;
 use crate::error::Result;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::matmul::matmul;
-use faer::{Accum, Mat, MatRef, Par, Side};
+use super::dense::{cholesky_lower, symmetric_eigen};
+use faer::{Accum, Mat, MatRef, Par};
 
 /// `H x = W x + (m v) .* x`.
 fn h_mul(factor: &ShiftedFactor, mv: &[f64], x: MatRef<'_, f64>) -> Mat<f64> {
@@ -76,8 +77,7 @@ fn rayleigh_ritz(s: MatRef<'_, f64>, hs: MatRef<'_, f64>, mass: &[f64], k: usize
     let b0 = mat_tr_mul(t.as_ref(), at.as_ref());
     let r = t.ncols();
     let b = Mat::from_fn(r, r, |i, j| 0.5 * (b0[(i, j)] + b0[(j, i)]));
-    let evd = b.self_adjoint_eigen(Side::Lower).ok()?;
-    let (bv, bu) = (evd.S(), evd.U());
+    let (bv, bu) = symmetric_eigen(b.as_ref()).ok()?;
     let values: Vec<f64> = (0..k).map(|i| bv[i]).collect();
     let c = mat_mul(t.as_ref(), bu.subcols(0, k));
     Some((values, c))
@@ -101,16 +101,14 @@ const MIN_PIVOT: f64 = 1e-6;
 /// than `k` directions remain.
 fn orthonormalizer(gs: MatRef<'_, f64>, d: &[f64], k: usize) -> Option<Mat<f64>> {
     let m = gs.nrows();
-    if let Ok(llt) = gs.llt(Side::Lower) {
-        let l = llt.L();
+    if let Some(l) = cholesky_lower(gs) {
         if (0..m).all(|j| l[(j, j)] * l[(j, j)] >= MIN_PIVOT) {
             let mut linv = Mat::<f64>::identity(m, m);
-            faer::linalg::triangular_solve::solve_lower_triangular_in_place(l, linv.as_mut(), Par::Seq);
+            faer::linalg::triangular_solve::solve_lower_triangular_in_place(l.as_ref(), linv.as_mut(), Par::Seq);
             return Some(Mat::from_fn(m, m, |i, c| d[i] * linv[(c, i)]));
         }
     }
-    let evd = gs.self_adjoint_eigen(Side::Lower).ok()?;
-    let (gv, gu) = (evd.S(), evd.U());
+    let (gv, gu) = symmetric_eigen(gs).ok()?;
     let gmax = (0..m).map(|i| gv[i]).fold(0.0, f64::max);
     let keep: Vec<usize> = (0..m).filter(|&i| gv[i] > 1e-13 * gmax).collect();
     if keep.len() < k {

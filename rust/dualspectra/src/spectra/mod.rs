@@ -22,3 +22,4 @@ mod spectrum;
 pub use eigensolver::{generalized_eigen, HamiltonianSolver, SymbolicHamiltonian};
 pub use gradient::{eigenvalue_gradient, eigenvalue_gradient_dot};
 pub use spectrum::{EigenInfo, EigenParams, Spectrum};
+pub(crate) use dense::symmetric_eigen;
