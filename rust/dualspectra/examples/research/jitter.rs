@@ -3,9 +3,11 @@
 //! times per pair; prints each run's symmetry-aware IoU, the spread (max - min) per pair
 //! and the start each run chose. A research harness; numbers go to docs/benchmarks/.
 //!
-//! `cargo run --release --example research_jitter -- ROOT [PAIRS_PER_SET] [RUNS] [EPS]`
+//! `cargo run --release --example research_jitter -- ROOT [PAIRS_PER_SET] [RUNS] [EPS] [both|partial|full]`
 //!
 //! ROOT holds the dev sets (`$DUALSPECTRA_DATA`); pairs are spread evenly over each set.
+//! The last argument moves only one of the shapes (default both), to tell where the
+//! sensitivity comes from; each run also prints the optimisation mesh's vertex count.
 
 use dualspectra::evaluation::datasets::{Dataset, DEV_SETS};
 use dualspectra::evaluation::metrics::{scores, symmetry_aware};
@@ -37,6 +39,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let per_set: usize = args.get(2).map(|s| s.parse()).transpose()?.unwrap_or(2);
     let runs: u64 = args.get(3).map(|s| s.parse()).transpose()?.unwrap_or(5);
     let eps: f64 = args.get(4).map(|s| s.parse()).transpose()?.unwrap_or(1e-9);
+    let moved = args.get(5).map_or("both", String::as_str);
+    let (move_full, move_partial) = match moved {
+        "both" => (true, true),
+        "partial" => (false, true),
+        "full" => (true, false),
+        other => return Err(format!("moved shapes: both, partial or full, not {other:?}").into()),
+    };
     let options = Options::default();
     let mut spreads = Vec::new();
     for set in DEV_SETS.iter().filter(|s| root.join(s).is_dir()) {
@@ -46,14 +55,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let data = pair.load()?;
             let mut ious = Vec::new();
             let mut chosen = Vec::new();
+            let mut coarse = Vec::new();
             for run in 0..=runs {
                 // Run 0 is the input as read; runs 1.. are jittered.
-                let (full, partial) = if run == 0 {
-                    (data.full.clone(), data.partial.clone())
-                } else {
-                    (jitter(&data.full, eps, 2 * run)?, jitter(&data.partial, eps, 2 * run + 1)?)
-                };
-                let found = Localizer::new(&full, &options)?.locate(&partial, &Progress::none())?;
+                let full = if run > 0 && move_full { jitter(&data.full, eps, 2 * run)? } else { data.full.clone() };
+                let partial = if run > 0 && move_partial { jitter(&data.partial, eps, 2 * run + 1)? } else { data.partial.clone() };
+                let localizer = Localizer::new(&full, &options)?;
+                coarse.push(localizer.optimisation_vertices().to_string());
+                let found = localizer.locate(&partial, &Progress::none())?;
                 let iou = match &data.gt_sym {
                     Some(sym) => symmetry_aware(&found.region, &data.gt, sym, None)?.0.iou,
                     None => scores(&found.region, &data.gt)?.iou,
@@ -63,7 +72,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             }
             let (lo, hi) = ious.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &x| (l.min(x), h.max(x)));
             let shown: Vec<String> = ious.iter().map(|x| format!("{x:.3}")).collect();
-            println!("{set} {} spread {:.3} iou [{}] chosen [{}]", pair.name, hi - lo, shown.join(" "), chosen.join(" "));
+            println!(
+                "{set} {} spread {:.3} iou [{}] chosen [{}] optimisation vertices [{}]",
+                pair.name,
+                hi - lo,
+                shown.join(" "),
+                chosen.join(" "),
+                coarse.join(" ")
+            );
             spreads.push(hi - lo);
         }
     }
