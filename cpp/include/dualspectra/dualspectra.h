@@ -490,9 +490,9 @@ ds_status ds_result_confidence(const struct ds_result *result, double *out);
 // How similar the partial is to the full shape, from this localization: lower is more
 // similar, comparable between full shapes of different size and meshing (both shapes at
 // unit full-shape area), the score `ds_search` ranks by. The core's
-// `search::similarity_score_of`: the root-mean-square relative eigenvalue error of the chosen
-// region's own step potential times the partial's descriptor fit in it; `+inf` when either is
-// unknown (an empty region).
+// `search::similarity_score_of`: the best partial fit (the mean distance from the partial's
+// SHOT descriptors to the nearest descriptor in a region) among the localization's candidate
+// regions (docs/algorithm.md, "Searching several full shapes"); `+inf` when unknown.
 //
 // # Safety
 // `result` any pointer (a handle argument, checked); `out` valid for one write.

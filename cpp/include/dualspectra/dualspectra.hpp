@@ -164,8 +164,8 @@ struct Localization {
   double confidence = 0.0;
   // How similar the partial is to the full shape (lower is more similar), comparable between
   // full shapes of different size and meshing: what search() ranks by. The core's
-  // search::similarity_score_of (the chosen region's relative eigenvalue misfit times the
-  // partial's descriptor fit in it); +inf when unknown (an empty region).
+  // search::similarity_score_of (the best partial fit among the candidate regions:
+  // docs/algorithm.md, "Searching several full shapes"); +inf when unknown.
   double similarity_score = 0.0;
   std::size_t selected_start = 0;
   std::size_t n_starts = 0;

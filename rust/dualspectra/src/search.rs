@@ -28,27 +28,26 @@ pub struct Match {
     pub error: Option<String>,
 }
 
-/// The similarity score of a localization, lower is more similar: the *partial fit* of the
-/// chosen region,
-/// $$s = p(R^\star) = \frac{1}{|J|}\sum_{j \in J}\ \min_{i \in R^\star} \lVert D_N(j) - D_M(i) \rVert,$$
+/// The similarity score of a localization, lower is more similar: the best *partial fit*
+/// among its candidate regions $R$ (one per optimised start),
+/// $$s = \min_R p(R), \qquad p(R) = \frac{1}{|J|}\sum_{j \in J}\ \min_{i \in R} \lVert D_N(j) - D_M(i) \rVert,$$
 /// the mean distance from the partial's SHOT descriptors $D_N(j)$ (a sample $J$ of at most
 /// 1000 of its vertices) to the nearest descriptor $D_M(i)$ of the optimisation vertices in
-/// the chosen region $R^\star$ ([`crate::selection::partial_fits`]; docs/algorithm.md,
-/// "Searching several full shapes"). It asks whether every local shape of the partial is
-/// found in the region the spectra chose. SHOT descriptors have unit norm and both shapes are
-/// scaled to unit full-shape area, so $s \in [0, \sqrt 2]$ compares across full shapes of
-/// any size and meshing (at the same `resolution`). Measured against the region's spectral
-/// misfit, the descriptor projection, the confidence and combinations, it ranked best on the
-/// dev sets (docs/benchmarks/search-2026-12-02.md: the right model first for every SHREC'16
-/// partial measured; among people of one PFAUST set only by 1-3 %). `+inf` when unknown (an
-/// empty region).
+/// $R$ ([`crate::selection::partial_fits`]; docs/algorithm.md, "Searching several full
+/// shapes"). It asks whether some region the spectra led to holds every local shape of the
+/// partial. SHOT descriptors have unit norm and both shapes are scaled to unit full-shape
+/// area, so $s \in [0, \sqrt 2]$ compares across full shapes of any size and meshing (at the
+/// same `resolution`). It ranked best among the scores measured (the chosen region's fit,
+/// spectral misfits, the descriptor projection, the confidence, combinations):
+/// docs/benchmarks/search-2026-12-02.md. `+inf` when no candidate has a fit (empty regions).
 pub fn similarity_score_of(localization: &Localization) -> f64 {
     localization
         .candidates
-        .get(localization.selected_start)
-        .and_then(|chosen| chosen.scores.partial_fit)
+        .iter()
+        .filter_map(|c| c.scores.partial_fit)
         .filter(|fit| fit.is_finite())
-        .map_or(f64::INFINITY, |fit| fit.max(0.0))
+        .fold(f64::INFINITY, f64::min)
+        .max(0.0)
 }
 
 /// Locate `partial` on every shape of `fulls` and rank them: the `top` best [`Match`]es

@@ -110,9 +110,9 @@ class Localization:
     @property
     def similarity_score(self) -> float:
         """How similar the partial is to this full shape, lower is more similar (``inf`` when
-        unknown, e.g. an empty region): the core's ``similarity_score_of``, the chosen
-        region's partial fit (the mean distance from the partial's SHOT descriptors to the
-        nearest descriptor in the region; docs/algorithm.md, "Searching several full shapes").
+        unknown, e.g. empty regions): the core's ``similarity_score_of``, the best partial fit
+        among the candidate regions (the mean distance from the partial's SHOT descriptors to
+        the nearest descriptor in a region; docs/algorithm.md, "Searching several full shapes").
         Dimensionless, computed at unit full-shape area: it compares across full shapes of
         different size and meshing (:func:`search` ranks by it)."""
     @property
