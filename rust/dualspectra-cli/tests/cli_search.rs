@@ -3,7 +3,7 @@
 //! model ranks first, prepared shapes (.dsprep) rank and score as the meshes they were
 //! prepared from, and a stale or foreign .dsprep is a one-line error naming it.
 
-use dualspectra::evaluation::synthetic::{figure, synthetic_pair, Limb, SyntheticParams};
+use dualspectra::evaluation::synthetic::{figure, horned_limbs, quadruped_limbs, synthetic_pair, SyntheticParams};
 use dualspectra::mesh::io::write_off;
 use serde_json::Value;
 mod common;
@@ -28,24 +28,11 @@ fn library() -> &'static Path {
     DIR.get_or_init(|| {
         let d = tmp("library");
         let pair = synthetic_pair(&SyntheticParams { level: 3, ..SyntheticParams::default() }).unwrap();
-        let limb = |v: [f64; 3], height: f64, width: f64| {
-            let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-            Limb { direction: v.map(|c| c / n), height, width }
-        };
-        let quadruped = [
-            limb([1.0, 0.0, 0.3], 0.6, 0.35),
-            limb([0.5, 0.5, -1.0], 0.9, 0.2),
-            limb([0.5, -0.5, -1.0], 0.9, 0.2),
-            limb([-0.5, 0.5, -1.0], 0.9, 0.2),
-            limb([-0.5, -0.5, -1.0], 0.9, 0.2),
-            limb([-1.0, 0.0, 0.4], 1.4, 0.12),
-        ];
-        let horned = [limb([0.0, 0.0, 1.0], 2.0, 0.15), limb([0.0, 0.0, -1.0], 0.4, 0.6)];
         std::fs::create_dir_all(d.join("library")).unwrap();
         write_off(&d.join("partial.off"), &pair.partial).unwrap();
         write_off(&d.join("library/figure.off"), &pair.full).unwrap();
-        write_off(&d.join("library/quadruped.off"), &figure(3, &quadruped).unwrap()).unwrap();
-        write_off(&d.join("library/horned.off"), &figure(3, &horned).unwrap()).unwrap();
+        write_off(&d.join("library/quadruped.off"), &figure(3, &quadruped_limbs()).unwrap()).unwrap();
+        write_off(&d.join("library/horned.off"), &figure(3, &horned_limbs()).unwrap()).unwrap();
         // Not a mesh: a folder's other files are left out.
         std::fs::write(d.join("library/notes.txt"), "not a mesh").unwrap();
         d

@@ -5,7 +5,7 @@
 //! with the same answers in the host's numbering; foreign, stale and missing files and bad
 //! arguments are clear statuses; the callback cancels.
 
-use dualspectra::evaluation::synthetic::{default_limbs, figure, synthetic_pair, Limb, SyntheticPair, SyntheticParams};
+use dualspectra::evaluation::synthetic::{default_limbs, figure, horned_limbs, synthetic_pair, Limb, SyntheticPair, SyntheticParams};
 use dualspectra::TriMesh;
 use dualspectra_ffi::c_abi::*;
 use std::ffi::{c_char, c_int, c_void, CStr, CString};
@@ -64,12 +64,8 @@ fn library() -> &'static Library {
     LIBRARY.get_or_init(|| {
         let pair = synthetic_pair(&SyntheticParams { level: 3, ..SyntheticParams::default() }).unwrap();
         let headless: Vec<Limb> = default_limbs().into_iter().skip(1).collect();
-        let horned = [
-            Limb { direction: [0.0, 0.0, 1.0], height: 2.0, width: 0.15 },
-            Limb { direction: [0.0, 0.0, -1.0], height: 0.4, width: 0.6 },
-        ];
         let small = pair.full.map_positions(|p| p.map(|c| 0.1 * c)).unwrap();
-        let fulls = [figure(3, &headless).unwrap(), pair.full.clone(), figure(3, &horned).unwrap(), small];
+        let fulls = [figure(3, &headless).unwrap(), pair.full.clone(), figure(3, &horned_limbs()).unwrap(), small];
         let localizers = fulls
             .iter()
             .map(|m| {

@@ -3,7 +3,7 @@
 //! partial cannot be on ranks last, the search can be cancelled, and `search_with` (shapes
 //! opened one at a time) answers as `search`.
 
-use dualspectra::evaluation::synthetic::{figure, synthetic_pair, Limb, SyntheticPair, SyntheticParams};
+use dualspectra::evaluation::synthetic::{figure, horned_limbs, quadruped_limbs, synthetic_pair, SyntheticPair, SyntheticParams};
 use dualspectra::search::similarity_score_of;
 use dualspectra::{search, search_with, Error, Localizer, Match, Options, Progress, TriMesh};
 use std::borrow::Borrow;
@@ -21,20 +21,7 @@ fn pair() -> &'static SyntheticPair {
 
 /// Other models: a four-legged figure with a tail, and a figure with one long horn.
 fn others() -> Vec<TriMesh> {
-    let limb = |d: [f64; 3], height: f64, width: f64| {
-        let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-        Limb { direction: d.map(|c| c / n), height, width }
-    };
-    let quadruped = vec![
-        limb([1.0, 0.0, 0.3], 0.6, 0.35),
-        limb([0.5, 0.5, -1.0], 0.9, 0.2),
-        limb([0.5, -0.5, -1.0], 0.9, 0.2),
-        limb([-0.5, 0.5, -1.0], 0.9, 0.2),
-        limb([-0.5, -0.5, -1.0], 0.9, 0.2),
-        limb([-1.0, 0.0, 0.4], 1.4, 0.12),
-    ];
-    let horned = vec![limb([0.0, 0.0, 1.0], 2.0, 0.15), limb([0.0, 0.0, -1.0], 0.4, 0.6)];
-    vec![figure(3, &quadruped).unwrap(), figure(3, &horned).unwrap()]
+    vec![figure(3, &quadruped_limbs()).unwrap(), figure(3, &horned_limbs()).unwrap()]
 }
 
 fn library() -> &'static Vec<Localizer> {

@@ -74,6 +74,29 @@ pub fn default_limbs() -> Vec<Limb> {
     ]
 }
 
+/// The limbs of a figure unlike the default one: a four-legged body with a head and a tail
+/// (search tests rank it against the default figure).
+pub fn quadruped_limbs() -> Vec<Limb> {
+    let limb = |direction: V3, height: f64, width: f64| Limb { direction: normalize(direction), height, width };
+    vec![
+        limb([1.0, 0.0, 0.3], 0.6, 0.35),
+        limb([0.5, 0.5, -1.0], 0.9, 0.2),
+        limb([0.5, -0.5, -1.0], 0.9, 0.2),
+        limb([-0.5, 0.5, -1.0], 0.9, 0.2),
+        limb([-0.5, -0.5, -1.0], 0.9, 0.2),
+        limb([-1.0, 0.0, 0.4], 1.4, 0.12),
+    ]
+}
+
+/// The limbs of another figure unlike the default one: one long thin horn up, a wide stump
+/// down.
+pub fn horned_limbs() -> Vec<Limb> {
+    vec![
+        Limb { direction: [0.0, 0.0, 1.0], height: 2.0, width: 0.15 },
+        Limb { direction: [0.0, 0.0, -1.0], height: 0.4, width: 0.6 },
+    ]
+}
+
 /// The articulated figure: icosphere of subdivision `level` (`10 * 4^level + 2` vertices)
 /// displaced radially by the limbs (module doc), then flattened front-to-back (y * 0.7).
 pub fn figure(level: u32, limbs: &[Limb]) -> Result<TriMesh> {
