@@ -102,6 +102,9 @@ pub struct CandidateLog {
     pub iou_sym: f64,
     /// Against the chosen candidate's region.
     pub iou_with_chosen: f64,
+    /// Against every candidate's region, in the order of `candidates` (studies of choices
+    /// that weigh how the starts agree).
+    pub iou_with_candidates: Vec<f64>,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -188,6 +191,11 @@ fn run_pair(
             iou,
             iou_sym,
             iou_with_chosen: metrics::scores(&c.region, &loc.region)?.iou,
+            iou_with_candidates: loc
+                .candidates
+                .iter()
+                .map(|o| Ok(metrics::scores(&c.region, &o.region)?.iou))
+                .collect::<Result<_, dualspectra::Error>>()?,
         });
     }
     Ok(PairResult {

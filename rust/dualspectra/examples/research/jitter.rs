@@ -7,10 +7,12 @@
 //!
 //! ROOT holds the dev sets (`$DUALSPECTRA_DATA`); pairs are spread evenly over each set.
 //! The last argument moves only one of the shapes (default both), to tell where the
-//! sensitivity comes from; each run also prints the optimisation mesh's vertex count.
+//! sensitivity comes from; each run also prints the optimisation mesh's vertex count,
+//! starred where its vertices differ from the unmoved run's.
 
 use dualspectra::evaluation::datasets::{Dataset, DEV_SETS};
 use dualspectra::evaluation::metrics::{scores, symmetry_aware};
+use dualspectra::mesh::decimate::decimate;
 use dualspectra::{Localizer, Options, Progress, TriMesh};
 
 /// A deterministic uniform offset in [-1, 1] per (seed, index) (SplitMix64).
@@ -56,12 +58,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let mut ious = Vec::new();
             let mut chosen = Vec::new();
             let mut coarse = Vec::new();
+            let mut first_kept: Option<Vec<u32>> = None;
             for run in 0..=runs {
                 // Run 0 is the input as read; runs 1.. are jittered.
                 let full = if run > 0 && move_full { jitter(&data.full, eps, 2 * run)? } else { data.full.clone() };
                 let partial = if run > 0 && move_partial { jitter(&data.partial, eps, 2 * run + 1)? } else { data.partial.clone() };
                 let localizer = Localizer::new(&full, &options)?;
-                coarse.push(localizer.optimisation_vertices().to_string());
+                // The decimation as the localizer runs it, compared with the unmoved run's.
+                let scale = 1.0 / full.area().sqrt();
+                let scaled = full.map_positions(|p| p.map(|c| c * scale))?;
+                let kept = decimate(&scaled, (options.resolution as f64 / scaled.n_vertices() as f64).min(1.0))?.original_vertex;
+                let same = first_kept.get_or_insert_with(|| kept.clone()) == &kept;
+                coarse.push(format!("{}{}", localizer.optimisation_vertices(), if same { "" } else { "*" }));
                 let found = localizer.locate(&partial, &Progress::none())?;
                 let iou = match &data.gt_sym {
                     Some(sym) => symmetry_aware(&found.region, &data.gt, sym, None)?.0.iou,
