@@ -1,10 +1,12 @@
 """Fit the localizer's confidence from `dualspectra bench --json` logs (every candidate's
 scores and IoU are in them), and report how well it ranks results.
 
-    python fit_confidence.py [FEATURE,FEATURE,...] OUT1.json [OUT2.json ...]
+    python fit_confidence.py [--rechoose] [FEATURE,FEATURE,...] OUT1.json [OUT2.json ...]
 
-Label of a pair: symmetry-aware IoU >= 0.5. Features (default: the shipped model,
-partial_fit,consensus,margin; as in `selection::agreement` and `selection::confidence`):
+`--rechoose` re-runs today's choice (`selection::choose`) on logs written before it.
+
+Label of a pair: symmetry-aware IoU >= 0.5. Features (default: the model of 2026-12-01,
+partial_fit,consensus,margin; shipped since: partial_fit,margin,log_region_cost; as in `selection::agreement` and `selection::confidence`):
   - log_region_cost: spectral misfit of the chosen region's step potential,
   - partial_fit: mean nearest SHOT distance of the partial into the region,
   - boundary_misfit: |ln(L_R / L_N)|,
@@ -12,46 +14,83 @@ partial_fit,consensus,margin; as in `selection::agreement` and `selection::confi
     chosen one (starts that agree),
   - margin: log ranking of the best-ranked disagreeing candidate minus the chosen one's
     (at most 3),
-  - cost_ratio: log of the chosen region cost over the lowest.
+  - cost_ratio: log of the chosen region cost over the lowest,
+  - support: mean IoU of the chosen region with the scored candidates' regions, each
+    weighted by exp(-(log ranking - lowest log ranking)) (needs `iou_with_candidates`,
+    bench JSON from 2026-12-02 on; 0 without),
+  - fit_ratio: log of the chosen partial fit over the lowest partial fit of any candidate,
+  - log_descriptor: log of the chosen descriptor score.
 A logistic model on these, fitted by Newton's method (L2 0.1), is reported by its area
 under the ROC curve, in-sample and leave-one-set-out (each set predicted by a model fitted
 on the others), and by the mean IoU of the 80% most confident results.
 """
+import gzip
 import json
 import sys
 
 import numpy as np
 
-FEATURES = sys.argv[1].split(",") if len(sys.argv) > 1 and not sys.argv[1].endswith(".json") else ["partial_fit", "consensus", "margin"]
+RECHOOSE = "--rechoose" in sys.argv
+sys.argv = [a for a in sys.argv if a != "--rechoose"]
+FEATURES = sys.argv[1].split(",") if len(sys.argv) > 1 and ".json" not in sys.argv[1] else ["partial_fit", "consensus", "margin"]
+
+
+def rechoose(cands, gate=3.0, floor=0.4, tau=0.2):
+    """`selection::choose` re-run on a logged pair (for logs of an older choice): the gated
+    candidate with the most support sum_j (rho_min / rho_j)^(1/tau) IoU(i, j)^2."""
+    def rho(c):
+        d, f, m = c.get("descriptor_score"), c.get("partial_fit"), c.get("boundary_misfit") or 0.0
+        return d * f ** 2 * np.exp(0.5 * m) if d and f else np.inf
+    costs = [c["region_cost"] for c in cands if c.get("region_cost") is not None]
+    g = max(gate * min(costs), floor)
+    gated = [i for i, c in enumerate(cands) if c.get("region_cost") is not None and c["region_cost"] <= g]
+    low = min(rho(cands[i]) for i in gated)
+    w = {j: (low / rho(cands[j])) ** (1 / tau) if np.isfinite(rho(cands[j])) else 0.0 for j in gated}
+    sup = {i: sum(w[j] * cands[i]["iou_with_candidates"][j] ** 2 for j in gated) for i in gated}
+    return min(gated, key=lambda i: (-sup[i], rho(cands[i]), i))
 
 
 def pair_rows(path):
-    data = json.load(open(path))
+    data = json.load(gzip.open(path, "rt") if path.endswith(".gz") else open(path))
     sets = data["sets"] if "sets" in data else [{"set": path, "pairs": data["pairs"]}]
     for s in sets:
         for p in s["pairs"]:
             if p.get("error") or not p.get("candidates"):
                 continue
             cands = p["candidates"]
-            chosen = cands[p["selected"]]
+            selected = rechoose(cands) if RECHOOSE else p["selected"]
+            chosen = cands[selected]
+            overlap = (lambda c: c["iou_with_candidates"][selected]) if RECHOOSE else (lambda c: c["iou_with_chosen"])
             scored = [c for c in cands if c.get("region_cost") is not None]
-            consensus = np.mean([c["iou_with_chosen"] >= 0.5 for c in scored]) if scored else 0.0
+            consensus = np.mean([overlap(c) >= 0.5 for c in scored]) if scored else 0.0
 
             def rank(c):
                 d, f, m = c.get("descriptor_score"), c.get("partial_fit"), c.get("boundary_misfit") or 0.0
                 return np.log(d) + 2 * np.log(f) + 0.5 * m if d and f else np.inf
 
-            others = [rank(c) for c in scored if c["iou_with_chosen"] < 0.5]
+            others = [rank(c) for c in scored if overlap(c) < 0.5]
             margin = min(min(others) - rank(chosen), 3.0) if others else 3.0
             best_cost = min(c["region_cost"] for c in scored) if scored else 1.0
             cost_ratio = np.log(max(chosen.get("region_cost") or 1e3, 1e-9) / max(best_cost, 1e-9))
-            yield s["set"], p["name"], p["scores_sym"]["iou"], {
+            ranks = [rank(c) for c in scored]
+            low = min(ranks) if ranks else 0.0
+            wts = [np.exp(-(r - low)) if np.isfinite(r) else 0.0 for r in ranks]
+            idx = [i for i, c in enumerate(cands) if c.get("region_cost") is not None]
+            overlaps = chosen.get("iou_with_candidates")
+            support = (sum(w * overlaps[i] for w, i in zip(wts, idx)) / max(sum(wts), 1e-12)) if overlaps else 0.0
+            fits = [c["partial_fit"] for c in cands if c.get("partial_fit")]
+            fit_ratio = np.log((chosen.get("partial_fit") or 1.0) / min(fits)) if fits else 0.0
+            iou_sym = chosen["iou_sym"] if RECHOOSE else p["scores_sym"]["iou"]
+            yield s.get("set", s.get("dataset")), p["name"], iou_sym, {
                 "log_region_cost": np.log(max(chosen.get("region_cost") or 1e3, 1e-6)),
                 "partial_fit": chosen.get("partial_fit") or 1.0,
                 "boundary_misfit": chosen.get("boundary_misfit") or 2.0,
                 "consensus": consensus,
                 "margin": margin,
                 "cost_ratio": cost_ratio,
+                "support": support,
+                "fit_ratio": fit_ratio,
+                "log_descriptor": np.log(max(chosen.get("descriptor_score") or 1e3, 1e-9)),
             }
 
 
@@ -78,7 +117,7 @@ def auc(score, y):
 
 
 def main(paths):
-    paths = [p for p in paths if p.endswith(".json")]
+    paths = [p for p in paths if p.endswith((".json", ".json.gz"))]
     rows = [r for path in paths for r in pair_rows(path)]
     sets = np.array([r[0] for r in rows])
     iou = np.array([r[2] for r in rows])

@@ -300,8 +300,8 @@ pub fn choose(scores: &[CandidateScore], floor: f64) -> Option<usize> {
     gated.into_iter().min_by(|&a, &b| key(a).total_cmp(&key(b)).then(a.cmp(&b)))
 }
 
-/// How the starts agree with a choice, the inputs of [`confidence`] besides the chosen
-/// candidate's own scores.
+/// How the starts agree with a choice. The margin is an input of [`confidence`] beside the
+/// chosen candidate's own scores; the consensus is reported for studies.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Agreement {
     /// Fraction of the scored candidates (those with a region cost) whose region overlaps
@@ -341,20 +341,24 @@ pub fn agreement(regions: &[&[bool]], scores: &[CandidateScore], chosen: usize) 
     Agreement { consensus, margin: if margin.is_nan() { 0.0 } else { margin } }
 }
 
-/// Weights of [`confidence`]: bias, partial fit, consensus, margin (a logistic regression
-/// of "symmetry-aware IoU >= 0.5" over the dev sets: docs/benchmarks/confidence/).
-const CONFIDENCE_WEIGHTS: [f64; 4] = [4.2875, -8.0923, 1.1884, 2.1802];
+/// Weights of [`confidence`]: bias, partial fit, margin, log region cost (a logistic
+/// regression of "symmetry-aware IoU >= 0.5" over all 290 dev pairs; the starts' consensus
+/// added nothing that carried over between sets: docs/benchmarks/confidence/,
+/// docs/benchmarks/real-partials-2026-12-02-s17.md).
+const CONFIDENCE_WEIGHTS: [f64; 4] = [8.0654, -13.7498, 3.165, -0.9818];
 
 /// How much to trust a chosen region, in [0, 1]: the estimated probability that its
 /// symmetry-aware IoU with the true region is at least 0.5,
-/// $\sigma(b + a_1 f + a_2 c + a_3 g)$ from the chosen candidate's partial fit $f$ (1 if
-/// unknown, clamped to [0, 10]) and the starts' [`Agreement`]: consensus $c$ and margin $g$
-/// (NaN counts as their lowest value).
+/// $\sigma(b + a_1 f + a_2 g + a_3 \ln r)$ from the chosen candidate's partial fit $f$ (1 if
+/// unknown, clamped to [0, 10]), its region cost $r$ (how well the region's own spectra match
+/// the partial's; 1000 if unknown, clamped to [1e-6, 1e6]) and the [`Agreement`]'s margin $g$
+/// to the best other answer (NaN counts as its lowest value).
 pub fn confidence(chosen: &CandidateScore, agreement: &Agreement) -> f64 {
-    let [b, a_fit, a_consensus, a_margin] = CONFIDENCE_WEIGHTS;
+    let [b, a_fit, a_margin, a_cost] = CONFIDENCE_WEIGHTS;
     let fit = chosen.partial_fit.filter(|v| v.is_finite()).unwrap_or(1.0).clamp(0.0, 10.0);
-    let within = |x: f64, lo: f64, hi: f64| if x.is_nan() { lo } else { x.clamp(lo, hi) };
-    let z = b + a_fit * fit + a_consensus * within(agreement.consensus, 0.0, 1.0) + a_margin * within(agreement.margin, -MAX_MARGIN, MAX_MARGIN);
+    let cost = chosen.region_cost.filter(|v| !v.is_nan()).unwrap_or(1e3).clamp(1e-6, 1e6);
+    let margin = if agreement.margin.is_nan() { -MAX_MARGIN } else { agreement.margin.clamp(-MAX_MARGIN, MAX_MARGIN) };
+    let z = b + a_fit * fit + a_margin * margin + a_cost * cost.ln();
     1.0 / (1.0 + (-z).exp())
 }
 
@@ -388,19 +392,22 @@ mod tests {
     }
 
     #[test]
-    fn confidence_is_a_probability_rising_with_agreement_and_falling_with_a_worse_fit() {
-        let s = |fit: f64| CandidateScore { descriptor_score: Some(1.0), region_cost: Some(1.0), boundary_misfit: Some(0.0), partial_fit: Some(fit) };
-        let g = |consensus: f64, margin: f64| Agreement { consensus, margin };
-        let c = confidence(&s(0.3), &g(0.5, 0.5));
+    fn confidence_is_a_probability_rising_with_the_margin_and_falling_with_a_worse_fit() {
+        let s = |fit: f64, cost: f64| CandidateScore { descriptor_score: Some(1.0), region_cost: Some(cost), boundary_misfit: Some(0.0), partial_fit: Some(fit) };
+        let g = |margin: f64| Agreement { consensus: 0.5, margin };
+        let c = confidence(&s(0.45, 1.0), &g(0.5));
         assert!(c > 0.0 && c < 1.0, "{c}");
-        assert!(confidence(&s(0.3), &g(0.9, 0.5)) > c);
-        assert!(confidence(&s(0.3), &g(0.5, 2.0)) > c);
-        assert!(confidence(&s(0.5), &g(0.5, 0.5)) < c);
-        for x in [f64::NAN, f64::INFINITY, -1e300] {
-            let v = confidence(&s(x), &g(x, x));
+        assert!(confidence(&s(0.45, 1.0), &g(2.0)) > c);
+        assert!(confidence(&s(0.55, 1.0), &g(0.5)) < c);
+        assert!(confidence(&s(0.45, 10.0), &g(0.5)) < c, "a worse spectral fit is less trusted");
+        for x in [f64::NAN, f64::INFINITY, -1e300, 0.0] {
+            let v = confidence(&s(x, x), &g(x));
             assert!((0.0..=1.0).contains(&v), "{x}: {v}");
         }
+        let unknown = CandidateScore::default();
+        assert!((0.0..=1.0).contains(&confidence(&unknown, &g(f64::NAN))));
     }
+
 
 
     /// A score with every entry known (NaN entries become `None`).
