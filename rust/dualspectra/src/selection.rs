@@ -409,7 +409,6 @@ mod tests {
     }
 
 
-
     /// A score with every entry known (NaN entries become `None`).
     fn score(desc: f64, region: f64, misfit: f64, fit: f64) -> CandidateScore {
         let some = |x: f64| (!x.is_nan()).then_some(x);
