@@ -12,7 +12,6 @@
 
 use dualspectra::evaluation::datasets::{Dataset, DEV_SETS};
 use dualspectra::evaluation::metrics::{scores, symmetry_aware};
-use dualspectra::mesh::decimate::decimate;
 use dualspectra::{Localizer, Options, Progress, TriMesh};
 
 /// A deterministic uniform offset in [-1, 1] per (seed, index) (SplitMix64).
@@ -64,10 +63,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 let full = if run > 0 && move_full { jitter(&data.full, eps, 2 * run)? } else { data.full.clone() };
                 let partial = if run > 0 && move_partial { jitter(&data.partial, eps, 2 * run + 1)? } else { data.partial.clone() };
                 let localizer = Localizer::new(&full, &options)?;
-                // The decimation as the localizer runs it, compared with the unmoved run's.
-                let scale = 1.0 / full.area().sqrt();
-                let scaled = full.map_positions(|p| p.map(|c| c * scale))?;
-                let kept = decimate(&scaled, (options.resolution as f64 / scaled.n_vertices() as f64).min(1.0))?.original_vertex;
+                // The decimation's kept vertices, compared with the unmoved run's.
+                let kept = localizer.optimisation_vertex_origins().to_vec();
                 let same = first_kept.get_or_insert_with(|| kept.clone()) == &kept;
                 coarse.push(format!("{}{}", localizer.optimisation_vertices(), if same { "" } else { "*" }));
                 let found = localizer.locate(&partial, &Progress::none())?;

@@ -137,6 +137,12 @@ impl Localizer {
         self.coarse.n_vertices()
     }
 
+    /// For each optimisation vertex, the full-mesh vertex it is (the decimation keeps a
+    /// subset of the full mesh's vertices; increasing).
+    pub fn optimisation_vertex_origins(&self) -> &[u32] {
+        &self.coarse_to_full
+    }
+
     /// Notes on the preparation (e.g. a decimation that failed), repeated in every result.
     pub fn warnings(&self) -> &[String] {
         &self.warnings
