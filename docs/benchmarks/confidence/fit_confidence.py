@@ -1,9 +1,7 @@
 """Fit the localizer's confidence from `dualspectra bench --json` logs (every candidate's
 scores and IoU are in them), and report how well it ranks results.
 
-    python fit_confidence.py [--rechoose] [FEATURE,FEATURE,...] OUT1.json [OUT2.json ...]
-
-`--rechoose` re-runs today's choice (`selection::choose`) on logs written before it.
+    python fit_confidence.py [FEATURE,FEATURE,...] OUT1.json [OUT2.json ...]
 
 Label of a pair: symmetry-aware IoU >= 0.5. Features (default: the model of 2026-12-01,
 partial_fit,consensus,margin; shipped since: partial_fit,margin,log_region_cost; as in `selection::agreement` and `selection::confidence`):
@@ -30,24 +28,8 @@ import sys
 
 import numpy as np
 
-RECHOOSE = "--rechoose" in sys.argv
-sys.argv = [a for a in sys.argv if a != "--rechoose"]
 FEATURES = sys.argv[1].split(",") if len(sys.argv) > 1 and ".json" not in sys.argv[1] else ["partial_fit", "consensus", "margin"]
 
-
-def rechoose(cands, gate=3.0, floor=0.4, tau=0.2):
-    """`selection::choose` re-run on a logged pair (for logs of an older choice): the gated
-    candidate with the most support sum_j (rho_min / rho_j)^(1/tau) IoU(i, j)^2."""
-    def rho(c):
-        d, f, m = c.get("descriptor_score"), c.get("partial_fit"), c.get("boundary_misfit") or 0.0
-        return d * f ** 2 * np.exp(0.5 * m) if d and f else np.inf
-    costs = [c["region_cost"] for c in cands if c.get("region_cost") is not None]
-    g = max(gate * min(costs), floor)
-    gated = [i for i, c in enumerate(cands) if c.get("region_cost") is not None and c["region_cost"] <= g]
-    low = min(rho(cands[i]) for i in gated)
-    w = {j: (low / rho(cands[j])) ** (1 / tau) if np.isfinite(rho(cands[j])) else 0.0 for j in gated}
-    sup = {i: sum(w[j] * cands[i]["iou_with_candidates"][j] ** 2 for j in gated) for i in gated}
-    return min(gated, key=lambda i: (-sup[i], rho(cands[i]), i))
 
 
 def pair_rows(path):
@@ -58,17 +40,15 @@ def pair_rows(path):
             if p.get("error") or not p.get("candidates"):
                 continue
             cands = p["candidates"]
-            selected = rechoose(cands) if RECHOOSE else p["selected"]
-            chosen = cands[selected]
-            overlap = (lambda c: c["iou_with_candidates"][selected]) if RECHOOSE else (lambda c: c["iou_with_chosen"])
+            chosen = cands[p["selected"]]
             scored = [c for c in cands if c.get("region_cost") is not None]
-            consensus = np.mean([overlap(c) >= 0.5 for c in scored]) if scored else 0.0
+            consensus = np.mean([c["iou_with_chosen"] >= 0.5 for c in scored]) if scored else 0.0
 
             def rank(c):
                 d, f, m = c.get("descriptor_score"), c.get("partial_fit"), c.get("boundary_misfit") or 0.0
                 return np.log(d) + 2 * np.log(f) + 0.5 * m if d and f else np.inf
 
-            others = [rank(c) for c in scored if overlap(c) < 0.5]
+            others = [rank(c) for c in scored if c["iou_with_chosen"] < 0.5]
             margin = min(min(others) - rank(chosen), 3.0) if others else 3.0
             best_cost = min(c["region_cost"] for c in scored) if scored else 1.0
             cost_ratio = np.log(max(chosen.get("region_cost") or 1e3, 1e-9) / max(best_cost, 1e-9))
@@ -80,8 +60,7 @@ def pair_rows(path):
             support = (sum(w * overlaps[i] for w, i in zip(wts, idx)) / max(sum(wts), 1e-12)) if overlaps else 0.0
             fits = [c["partial_fit"] for c in cands if c.get("partial_fit")]
             fit_ratio = np.log((chosen.get("partial_fit") or 1.0) / min(fits)) if fits else 0.0
-            iou_sym = chosen["iou_sym"] if RECHOOSE else p["scores_sym"]["iou"]
-            yield s.get("set", s.get("dataset")), p["name"], iou_sym, {
+            yield s.get("set", s.get("dataset")), p["name"], p["scores_sym"]["iou"], {
                 "log_region_cost": np.log(max(chosen.get("region_cost") or 1e3, 1e-6)),
                 "partial_fit": chosen.get("partial_fit") or 1.0,
                 "boundary_misfit": chosen.get("boundary_misfit") or 2.0,
