@@ -79,7 +79,7 @@ def test_localize_finds_the_cut(pair: Pair) -> None:
     assert r.score.shape == r.potential.shape == (len(v),)
     print(f"[agreement] localize bumpy3 cut: IoU={iou(r.region, truth):.3f}, cost={r.cost:.3e}, {r.timings}")
     assert iou(r.region, truth) > 0.7
-    assert r.n_starts == len(r.candidates) == 3 * FAST["centers"] + 6, "3 per centre, and 6 plane cuts by default"
+    assert r.n_starts == len(r.candidates) == 3 * FAST["centers"] + 6 + 2, "3 per centre, 6 plane cuts by default, 2 descriptor starts"
     assert 0 <= r.selected_start < r.n_starts
     chosen = r.candidates[r.selected_start]
     assert np.array_equal(chosen.region, r.region) and chosen.cost == r.cost
@@ -250,9 +250,9 @@ def test_plane_cuts_set_the_plane_starts(pair: Pair) -> None:
     v, f, pv, pf, _ = pair
     loc = ds.Localizer(v, f, **dict(QUICK, plane_cuts=0))
     r = loc.locate(pv, pf)
-    assert r.n_starts == 3 * QUICK["centers"] and not any(c.label.startswith("plane") for c in r.candidates)
+    assert r.n_starts == 3 * QUICK["centers"] + 2 and not any(c.label.startswith("plane") for c in r.candidates)
     r = ds.localize(v, f, pv, pf, **dict(QUICK, plane_cuts=5))
-    assert r.n_starts == 3 * QUICK["centers"] + 5
+    assert r.n_starts == 3 * QUICK["centers"] + 5 + 2
     assert sum(c.label.startswith("plane") for c in r.candidates) == 5
 
 

@@ -84,7 +84,7 @@ fn localize_writes_the_json_schema_and_a_ply() {
     assert_eq!(v["options"]["mode"], "dual");
     assert_eq!(v["options"]["seed"], 3);
     assert_eq!(v["options"]["k"], 6);
-    assert_eq!(v["n_starts"], 12, "2 centres x 3 starts (balls-and-wide-bumps) + 6 plane cuts");
+    assert_eq!(v["n_starts"], 14, "2 centres x 3 starts (balls-and-wide-bumps) + 6 plane cuts + 2 descriptor starts");
     assert!(v["timings"]["total"].as_f64().is_some());
     assert_eq!(v["eigenvalues_regular"].as_array().unwrap().len(), 6);
     assert_eq!(v["target_si"].as_array().unwrap().len(), 6);
@@ -123,12 +123,12 @@ fn localize_usage_error(args: &[&str]) -> String {
 fn every_library_option_is_a_flag_and_reaches_the_library() {
     // The flags are built from the library's option table: each option is recorded in the JSON
     // with the value given; --plane-cuts and --centers change the number of starts (2 centres
-    // x 3 + 3 plane cuts); the older spelling --iterations still works.
+    // x 3 + 3 plane cuts + 2 descriptor starts); the older spelling --iterations still works.
     let v = localize_demo_json(
         "localize-options",
         &["--k", "6", "--centers", "2", "--iterations", "3", "--plane-cuts", "3", "--mode", "lbo", "--alpha", "0.5", "--threads", "2"],
     );
-    assert_eq!(v["n_starts"], 9);
+    assert_eq!(v["n_starts"], 11);
     let o = &v["options"];
     assert_eq!((o["k"].as_u64(), o["centers"].as_u64(), o["max_iterations"].as_u64()), (Some(6), Some(2), Some(3)));
     assert_eq!((o["mode"].as_str(), o["alpha"].as_f64(), o["threads"].as_u64()), (Some("lbo"), Some(0.5), Some(2)));

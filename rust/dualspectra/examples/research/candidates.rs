@@ -6,6 +6,9 @@
 //!
 //! One line per candidate: pair, label, final cost, the four selection scores, its
 //! symmetry-aware IoU, `*` on the chosen one. One [`Localizer`] per full shape.
+//!
+//! `DS_GT_START=1` adds the ground-truth region as one more start (`given#0`): whether the
+//! optimiser keeps a right region and the choice recognises it (docs/benchmarks/).
 
 use dualspectra::evaluation::datasets::Dataset;
 use dualspectra::evaluation::metrics::{scores, symmetry_aware};
@@ -21,6 +24,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Some(json) => Options::from_json(json)?,
         None => Options::default(),
     };
+    let gt_start = std::env::var("DS_GT_START").is_ok_and(|v| v == "1");
     let show = |x: Option<f64>| x.map_or("-".to_string(), |v| format!("{v:.4}"));
     println!("pair label cost descriptor_score region_cost boundary_misfit partial_fit iou_sym chosen");
     let mut prepared: HashMap<std::path::PathBuf, Localizer> = HashMap::new();
@@ -29,7 +33,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         if !prepared.contains_key(&pair.full) {
             prepared.insert(pair.full.clone(), Localizer::new(&data.full, &options)?);
         }
-        let found = prepared[&pair.full].locate(&data.partial, &Progress::none())?;
+        let given = if gt_start { vec![data.gt.clone()] } else { Vec::new() };
+        let found = prepared[&pair.full].locate_with_initial_regions(&data.partial, &given, &Progress::none())?;
         for (i, c) in found.candidates.iter().enumerate() {
             let iou = match &data.gt_sym {
                 Some(sym) => symmetry_aware(&c.region, &data.gt, sym, None)?.0.iou,

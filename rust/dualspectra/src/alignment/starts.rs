@@ -1,6 +1,7 @@
 //! Initial relaxed potentials $w_0$ (docs/algorithm.md, "Starts"): around farthest-point
 //! samples of the full shape, area-matched balls and a wide Gaussian bump; the sides of planes
-//! normal to the principal axes; and given regions $w_0 = 2 - 4 R_0$.
+//! normal to the principal axes; the regions whose SHOT descriptors the partial's resemble;
+//! and given regions $w_0 = 2 - 4 R_0$.
 //!
 //! With $g(x) = 1 - \exp(-|x - c|^2 / (2\sigma^2))$: $w_0 = g - 1/2$ opens a well (low
 //! potential, the candidate region) around $c$; $w_0 = 1/2 - g$ opens everything but $c$.
@@ -213,6 +214,69 @@ pub fn plane_cut_starts_from_heights(heights: &[Vec<f64>], mass: &[f64], area: f
 }
 
 /// A start from a guess of the region: $w_0 = 2 - 4 R_0$ (low potential on the mask).
+/// Partial vertices [`descriptor_starts`] compares (every `ceil(n / this)`-th).
+pub const DESCRIPTOR_START_SAMPLES: usize = 2000;
+
+/// Rounds of one-ring averaging of the descriptor distances in [`descriptor_starts`].
+pub const DESCRIPTOR_START_SMOOTHING: usize = 3;
+
+/// Starts from descriptor correspondences, for partials no ball or plane resembles (a whole
+/// body with holes): with $D_M(i)$ the full shape's SHOT descriptors and $D_N(j)$ a sample
+/// of the partial's,
+/// - `fit`: the vertices whose distance to the nearest partial descriptor,
+///   $\min_j \lVert D_M(i) - D_N(j)\rVert$, is lowest (vertices inside a hole have no
+///   counterpart);
+/// - `vote`: the vertices nearest (in descriptor space) to the most partial vertices,
+///   each partial vertex voting for its nearest full-shape vertex;
+/// each averaged over one-rings [`DESCRIPTOR_START_SMOOTHING`] times, then the partial's area
+/// of the best vertices taken as a step start ([`mask_start`]).
+pub fn descriptor_starts(
+    full_descriptors: &faer::Mat<f64>,
+    partial_descriptors: &faer::Mat<f64>,
+    neighbors: &[Vec<u32>],
+    mass: &[f64],
+    area: f64,
+) -> Vec<Start> {
+    let (n, d) = (full_descriptors.nrows(), full_descriptors.ncols());
+    if n == 0 || partial_descriptors.nrows() == 0 || partial_descriptors.ncols() != d || neighbors.len() != n {
+        return Vec::new();
+    }
+    let step = partial_descriptors.nrows().div_ceil(DESCRIPTOR_START_SAMPLES).max(1);
+    let sample: Vec<usize> = (0..partial_descriptors.nrows()).step_by(step).collect();
+    let a = faer::Mat::<f64>::from_fn(sample.len(), d, |i, c| partial_descriptors[(sample[i], c)]);
+    let mut dot = faer::Mat::<f64>::zeros(n, sample.len());
+    faer::linalg::matmul::matmul(dot.as_mut(), faer::Accum::Replace, full_descriptors.as_ref(), a.transpose(), 1.0, faer::Par::Seq);
+    let norm2 = |m: &faer::Mat<f64>, i: usize| (0..d).map(|c| m[(i, c)].powi(2)).sum::<f64>();
+    let f2: Vec<f64> = (0..n).map(|i| norm2(full_descriptors, i)).collect();
+    let p2: Vec<f64> = (0..sample.len()).map(|j| norm2(&a, j)).collect();
+    let distance = |i: usize, j: usize| (f2[i] + p2[j] - 2.0 * dot[(i, j)]).max(0.0).sqrt();
+    let fit: Vec<f64> = (0..n).map(|i| -(0..sample.len()).map(|j| distance(i, j)).fold(f64::INFINITY, f64::min)).collect();
+    let mut votes = vec![0.0; n];
+    for j in 0..sample.len() {
+        let best = (0..n).min_by(|&x, &y| distance(x, j).total_cmp(&distance(y, j)).then(x.cmp(&y))).unwrap_or(0);
+        votes[best] += 1.0;
+    }
+    let smooth = |mut x: Vec<f64>| {
+        for _ in 0..DESCRIPTOR_START_SMOOTHING {
+            x = (0..n)
+                .map(|i| {
+                    let (mut s, mut w) = (x[i] * mass[i], mass[i]);
+                    for &j in &neighbors[i] {
+                        s += x[j as usize] * mass[j as usize];
+                        w += mass[j as usize];
+                    }
+                    if w > 0.0 { s / w } else { x[i] }
+                })
+                .collect();
+        }
+        x
+    };
+    [("fit", fit), ("vote", votes)]
+        .into_iter()
+        .map(|(label, score)| mask_start(&crate::geometry::area_matched_set(&smooth(score), mass, area), &format!("descriptor-{label}")))
+        .collect()
+}
+
 pub fn mask_start(mask: &[bool], label: &str) -> Start {
     Start { w0: mask.iter().map(|&m| if m { -2.0 } else { 2.0 }).collect(), label: label.to_string(), family: "mask" }
 }
@@ -221,6 +285,46 @@ pub fn mask_start(mask: &[bool], label: &str) -> Start {
 mod tests {
     use super::*;
     use crate::geometry::angles::{cross, dot};
+    #[test]
+    fn descriptor_starts_find_the_region_whose_descriptors_the_partial_has() {
+        // A 30 x 30 grid with random descriptors; the "partial" carries the descriptors of a
+        // disc and of a ring-shaped region (a patch with a hole): both starts recover each
+        // region, blurred only at its rim by the smoothing, with the partial's area.
+        let mesh = crate::mesh::generate::grid(1.0, 1.0, 29, 29);
+        let shape = crate::shape::Shape::new(mesh);
+        let (points, mass) = (shape.mesh().vertices(), shape.mass());
+        let neighbors = crate::mesh::topology::vertex_neighbors(shape.mesh());
+        let mut state = 3;
+        let d = 16;
+        let full = faer::Mat::<f64>::from_fn(points.len(), d, |_, _| (splitmix64(&mut state) >> 11) as f64 / (1u64 << 53) as f64);
+        let r = |p: [f64; 3]| ((p[0] - 0.5).powi(2) + (p[1] - 0.5).powi(2)).sqrt();
+        let regions: [Vec<bool>; 2] = [
+            points.iter().map(|&p| r(p) < 0.3).collect(),
+            points.iter().map(|&p| r(p) < 0.4 && r(p) > 0.15).collect(),
+        ];
+        for truth in &regions {
+            let rows: Vec<usize> = (0..points.len()).filter(|&i| truth[i]).collect();
+            let partial = faer::Mat::<f64>::from_fn(rows.len(), d, |i, c| full[(rows[i], c)]);
+            let area: f64 = rows.iter().map(|&i| mass[i]).sum();
+            let starts = descriptor_starts(&full, &partial, &neighbors, mass, area);
+            assert_eq!(starts.iter().map(|s| s.label.as_str()).collect::<Vec<_>>(), ["descriptor-fit", "descriptor-vote"]);
+            for s in &starts {
+                let inside: Vec<bool> = s.w0.iter().map(|&w| w < 0.0).collect();
+                let both = (0..points.len()).filter(|&i| inside[i] && truth[i]).count() as f64;
+                let either = (0..points.len()).filter(|&i| inside[i] || truth[i]).count() as f64;
+                assert!(both / either > 0.85, "{}: IoU {}", s.label, both / either);
+                assert!((well_area(&s.w0, mass) - area).abs() < 0.02 * area + 0.01, "{}: area", s.label);
+            }
+            // Deterministic.
+            let again = descriptor_starts(&full, &partial, &neighbors, mass, area);
+            assert!(starts.iter().zip(&again).all(|(a, b)| a.w0 == b.w0));
+        }
+        // Mismatched dimensions or empty input give no start, not a panic.
+        let other = faer::Mat::<f64>::zeros(5, d + 1);
+        assert!(descriptor_starts(&full, &other, &neighbors, mass, 0.1).is_empty());
+        assert!(descriptor_starts(&full, &faer::Mat::<f64>::zeros(0, d), &neighbors, mass, 0.1).is_empty());
+    }
+
     #[test]
     fn fps_is_deterministic_spread_and_distinct() {
         let m = crate::mesh::generate::icosphere(3);

@@ -176,7 +176,7 @@ pub(super) fn locate(loc: &Localizer, partial: &TriMesh, initial_regions: &[Vec<
     progress.report(0.05, "starts")?;
     let starts = starts_for(loc, &target, initial_regions);
     if starts.is_empty() {
-        return Err(Error::InvalidArgument("no starts (centers = 0 and plane_cuts = 0, no initial region)".into()));
+        return Err(Error::InvalidArgument("no starts (centers = 0 and plane_cuts = 0, no initial region, and no descriptor start)".into()));
     }
     let t_starts = clock.lap();
     let (runs, failure) = optimise(loc, &target, &starts, &progress.sub(0.05, 0.9))?;
@@ -256,7 +256,8 @@ fn target(loc: &Localizer, partial: &TriMesh) -> Result<Target> {
 }
 
 /// Stage 2: the starts. Given regions first, then per centre an area-matched ball, its
-/// complement and a wide Gaussian bump, then the plane cuts.
+/// complement and a wide Gaussian bump, then the plane cuts, then the two descriptor starts
+/// (the regions whose SHOT descriptors the partial's resemble).
 fn starts_for(loc: &Localizer, target: &Target, initial_regions: &[Vec<bool>]) -> Vec<Start> {
     let points = loc.coarse.mesh().vertices();
     let mass = loc.coarse.mass();
@@ -273,6 +274,8 @@ fn starts_for(loc: &Localizer, target: &Target, initial_regions: &[Vec<bool>]) -
         out.push(bump);
     }
     out.extend(starts::plane_cut_starts_from_heights(&loc.plane_heights, mass, target.area));
+    let neighbors = crate::mesh::topology::vertex_neighbors(loc.coarse.mesh());
+    out.extend(starts::descriptor_starts(&loc.coarse_descriptors, &target.descriptors, &neighbors, mass, target.area));
     out
 }
 
