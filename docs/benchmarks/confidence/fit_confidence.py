@@ -28,6 +28,10 @@ import sys
 
 import numpy as np
 
+# Partial-fit exponent of the ranking (selection::PARTIAL_FIT_EXPONENT; 2 before 2026-12-02 night):
+# the margin is a difference of log rankings.
+GAMMA = 4.0
+
 FEATURES = sys.argv[1].split(",") if len(sys.argv) > 1 and ".json" not in sys.argv[1] else ["partial_fit", "consensus", "margin"]
 
 
@@ -46,7 +50,7 @@ def pair_rows(path):
 
             def rank(c):
                 d, f, m = c.get("descriptor_score"), c.get("partial_fit"), c.get("boundary_misfit") or 0.0
-                return np.log(d) + 2 * np.log(f) + 0.5 * m if d and f else np.inf
+                return np.log(d) + GAMMA * np.log(f) + 0.5 * m if d and f else np.inf
 
             others = [rank(c) for c in scored if c["iou_with_chosen"] < 0.5]
             margin = min(min(others) - rank(chosen), 3.0) if others else 3.0
