@@ -228,6 +228,7 @@ pub const DESCRIPTOR_START_SMOOTHING: usize = 3;
 ///   counterpart);
 /// - `vote`: the vertices nearest (in descriptor space) to the most partial vertices,
 ///   each partial vertex voting for its nearest full-shape vertex;
+///
 /// each averaged over one-rings [`DESCRIPTOR_START_SMOOTHING`] times, then the partial's area
 /// of the best vertices taken as a step start ([`mask_start`]).
 pub fn descriptor_starts(
