@@ -213,7 +213,6 @@ pub fn plane_cut_starts_from_heights(heights: &[Vec<f64>], mass: &[f64], area: f
         .collect()
 }
 
-/// A start from a guess of the region: $w_0 = 2 - 4 R_0$ (low potential on the mask).
 /// Partial vertices [`descriptor_starts`] compares (every `ceil(n / this)`-th).
 pub const DESCRIPTOR_START_SAMPLES: usize = 2000;
 
@@ -278,6 +277,7 @@ pub fn descriptor_starts(
         .collect()
 }
 
+/// A start from a guess of the region: $w_0 = 2 - 4 R_0$ (low potential on the mask).
 pub fn mask_start(mask: &[bool], label: &str) -> Start {
     Start { w0: mask.iter().map(|&m| if m { -2.0 } else { 2.0 }).collect(), label: label.to_string(), family: "mask" }
 }
