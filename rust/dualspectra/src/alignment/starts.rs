@@ -216,7 +216,7 @@ pub fn plane_cut_starts_from_heights(heights: &[Vec<f64>], mass: &[f64], area: f
 /// Partial vertices [`descriptor_starts`] compares (every `ceil(n / this)`-th).
 pub const DESCRIPTOR_START_SAMPLES: usize = 2000;
 
-/// Rounds of one-ring averaging of the descriptor distances in [`descriptor_starts`].
+/// Rounds of one-ring averaging of the descriptor scores in [`descriptor_starts`] (not varied).
 pub const DESCRIPTOR_START_SMOOTHING: usize = 3;
 
 /// Starts from descriptor correspondences, for partials no ball or plane resembles (a whole
@@ -229,7 +229,8 @@ pub const DESCRIPTOR_START_SMOOTHING: usize = 3;
 ///   each partial vertex voting for its nearest full-shape vertex;
 ///
 /// each averaged over one-rings [`DESCRIPTOR_START_SMOOTHING`] times, then the partial's area
-/// of the best vertices taken as a step start ([`mask_start`]).
+/// of the best vertices taken as a step start ([`mask_start`]). docs/algorithm.md ("Starts");
+/// why: docs/benchmarks/options.md ("Descriptor starts").
 pub fn descriptor_starts(
     full_descriptors: &faer::Mat<f64>,
     partial_descriptors: &faer::Mat<f64>,
