@@ -216,6 +216,10 @@ pub fn plane_cut_starts_from_heights(heights: &[Vec<f64>], mass: &[f64], area: f
 /// Partial vertices [`descriptor_starts`] compares (every `ceil(n / this)`-th).
 pub const DESCRIPTOR_START_SAMPLES: usize = 2000;
 
+/// Full-shape vertices per block of [`descriptor_starts`]' distances (bounds its memory to
+/// `DESCRIPTOR_START_SAMPLES x DESCRIPTOR_START_BLOCK` distances, ~33 MB, for any resolution).
+const DESCRIPTOR_START_BLOCK: usize = 2048;
+
 /// Rounds of one-ring averaging of the descriptor scores in [`descriptor_starts`] (not varied).
 pub const DESCRIPTOR_START_SMOOTHING: usize = 3;
 
@@ -245,17 +249,34 @@ pub fn descriptor_starts(
     let step = partial_descriptors.nrows().div_ceil(DESCRIPTOR_START_SAMPLES).max(1);
     let sample: Vec<usize> = (0..partial_descriptors.nrows()).step_by(step).collect();
     let a = faer::Mat::<f64>::from_fn(sample.len(), d, |i, c| partial_descriptors[(sample[i], c)]);
-    let mut dot = faer::Mat::<f64>::zeros(n, sample.len());
-    faer::linalg::matmul::matmul(dot.as_mut(), faer::Accum::Replace, full_descriptors.as_ref(), a.transpose(), 1.0, faer::Par::Seq);
     let norm2 = |m: &faer::Mat<f64>, i: usize| (0..d).map(|c| m[(i, c)].powi(2)).sum::<f64>();
-    let f2: Vec<f64> = (0..n).map(|i| norm2(full_descriptors, i)).collect();
     let p2: Vec<f64> = (0..sample.len()).map(|j| norm2(&a, j)).collect();
-    let distance = |i: usize, j: usize| (f2[i] + p2[j] - 2.0 * dot[(i, j)]).max(0.0).sqrt();
-    let fit: Vec<f64> = (0..n).map(|i| -(0..sample.len()).map(|j| distance(i, j)).fold(f64::INFINITY, f64::min)).collect();
+    // Distances by blocks of full-shape rows (memory bounded for any resolution); per full
+    // vertex the nearest sampled partial descriptor, per sampled partial vertex the nearest
+    // full vertex (ties to the lower index).
+    let mut fit = vec![0.0; n];
+    let mut nearest = vec![(f64::INFINITY, 0usize); sample.len()];
+    for start in (0..n).step_by(DESCRIPTOR_START_BLOCK) {
+        let rows = DESCRIPTOR_START_BLOCK.min(n - start);
+        let block = full_descriptors.as_ref().subrows(start, rows);
+        let mut dot = faer::Mat::<f64>::zeros(rows, sample.len());
+        faer::linalg::matmul::matmul(dot.as_mut(), faer::Accum::Replace, block, a.transpose(), 1.0, faer::Par::Seq);
+        for r in 0..rows {
+            let f2 = norm2(full_descriptors, start + r);
+            let mut own = f64::INFINITY;
+            for (j, best) in nearest.iter_mut().enumerate() {
+                let distance = (f2 + p2[j] - 2.0 * dot[(r, j)]).max(0.0).sqrt();
+                own = own.min(distance);
+                if distance < best.0 {
+                    *best = (distance, start + r);
+                }
+            }
+            fit[start + r] = -own;
+        }
+    }
     let mut votes = vec![0.0; n];
-    for j in 0..sample.len() {
-        let best = (0..n).min_by(|&x, &y| distance(x, j).total_cmp(&distance(y, j)).then(x.cmp(&y))).unwrap_or(0);
-        votes[best] += 1.0;
+    for &(_, i) in &nearest {
+        votes[i] += 1.0;
     }
     let smooth = |mut x: Vec<f64>| {
         for _ in 0..DESCRIPTOR_START_SMOOTHING {
