@@ -15,23 +15,77 @@
 //! = \mathrm{span}[X, K^{-1}MX]$: a block Krylov step. When the potential changed a little,
 //! $X$ is nearly invariant and a few iterations suffice.
 
+use super::dense::{cholesky_lower, symmetric_eigen};
 use super::factor::ShiftedFactor;
 use crate::error::Result;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::matmul::matmul;
-use super::dense::{cholesky_lower, symmetric_eigen};
-use faer::{Accum, Mat, MatRef, Par};
+use faer::reborrow::ReborrowMut;
+use faer::{Accum, Mat, MatMut, MatRef, Par};
 
-/// `H x = W x + (m v) .* x`.
-fn h_mul(factor: &ShiftedFactor, mv: &[f64], x: MatRef<'_, f64>) -> Mat<f64> {
-    let mut out = Mat::<f64>::zeros(x.nrows(), x.ncols());
-    factor.w_mul(out.as_mut(), x);
+/// The `n`-row blocks of [`refine`], kept between iterations and between solves so that
+/// each is allocated once (per solver) and written in place: $X$, $HX$, the residuals
+/// $R$, $W$, $HW$, $P$, $HP$, the basis $S$, $HS$ and $MS$. Each buffer grows when a
+/// block needs more columns than it has; a block is its first columns.
+#[derive(Debug)]
+pub(crate) struct Workspace {
+    x: Mat<f64>,
+    hx: Mat<f64>,
+    r: Mat<f64>,
+    w: Mat<f64>,
+    hw: Mat<f64>,
+    p: Mat<f64>,
+    hp: Mat<f64>,
+    s: Mat<f64>,
+    hs: Mat<f64>,
+    ms: Mat<f64>,
+}
+
+impl Workspace {
+    /// Empty buffers (they grow on first use).
+    pub(crate) fn new() -> Self {
+        Workspace {
+            x: Mat::new(),
+            hx: Mat::new(),
+            r: Mat::new(),
+            w: Mat::new(),
+            hw: Mat::new(),
+            p: Mat::new(),
+            hp: Mat::new(),
+            s: Mat::new(),
+            hs: Mat::new(),
+            ms: Mat::new(),
+        }
+    }
+}
+
+/// The first `ncols` columns of `buf` as an `n x ncols` block to overwrite; `buf` is
+/// reallocated when it has another row count or too few columns.
+fn block_mut(buf: &mut Mat<f64>, n: usize, ncols: usize) -> MatMut<'_, f64> {
+    if buf.nrows() != n || buf.ncols() < ncols {
+        let cap = if buf.nrows() == n {
+            ncols.max(buf.ncols())
+        } else {
+            ncols
+        };
+        *buf = Mat::zeros(n, cap);
+    }
+    buf.as_mut().subcols_mut(0, ncols)
+}
+
+/// The first `ncols` columns of `buf`.
+fn block(buf: &Mat<f64>, ncols: usize) -> MatRef<'_, f64> {
+    buf.as_ref().subcols(0, ncols)
+}
+
+/// `out = H x = W x + (m v) .* x`.
+fn h_mul(factor: &ShiftedFactor, mv: &[f64], x: MatRef<'_, f64>, mut out: MatMut<'_, f64>) {
+    factor.w_mul(out.rb_mut(), x);
     for c in 0..x.ncols() {
         for i in 0..x.nrows() {
             out[(i, c)] += mv[i] * x[(i, c)];
         }
     }
-    out
 }
 
 fn mat_tr_mul(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Mat<f64> {
@@ -46,24 +100,28 @@ fn mat_mul(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Mat<f64> {
     out
 }
 
-/// Columns `cols` of `a` side by side.
-fn hcat(parts: &[MatRef<'_, f64>]) -> Mat<f64> {
-    let n = parts[0].nrows();
-    let s: usize = parts.iter().map(|p| p.ncols()).sum();
-    let mut out = Mat::<f64>::zeros(n, s);
-    let mut c0 = 0;
-    for p in parts {
-        out.as_mut().subcols_mut(c0, p.ncols()).copy_from(p);
-        c0 += p.ncols();
-    }
-    out
+/// `out = a b`.
+fn mat_mul_into(out: MatMut<'_, f64>, a: MatRef<'_, f64>, b: MatRef<'_, f64>) {
+    matmul(out, Accum::Replace, a, b, 1.0, Par::Seq);
 }
 
 /// Rayleigh-Ritz: the `k` smallest eigenpairs of $(S^\top H S, S^\top M S)$; returns the
 /// values and the coefficient matrix `C` (`s x k`), or `None` if the basis degenerated.
-fn rayleigh_ritz(s: MatRef<'_, f64>, hs: MatRef<'_, f64>, mass: &[f64], k: usize) -> Option<(Vec<f64>, Mat<f64>)> {
+/// `ms_buf` holds $MS$.
+fn rayleigh_ritz(
+    s: MatRef<'_, f64>,
+    hs: MatRef<'_, f64>,
+    mass: &[f64],
+    k: usize,
+    ms_buf: &mut Mat<f64>,
+) -> Option<(Vec<f64>, Mat<f64>)> {
     let (n, m) = (s.nrows(), s.ncols());
-    let ms = Mat::from_fn(n, m, |i, j| mass[i] * s[(i, j)]);
+    let mut ms = block_mut(ms_buf, n, m);
+    for j in 0..m {
+        for i in 0..n {
+            ms[(i, j)] = mass[i] * s[(i, j)];
+        }
+    }
     let g = mat_tr_mul(s, ms.as_ref());
     let a = mat_tr_mul(s, hs);
     // Scale to unit diagonal.
@@ -117,14 +175,15 @@ fn orthonormalizer(gs: MatRef<'_, f64>, d: &[f64], k: usize) -> Option<Mat<f64>>
     Some(Mat::from_fn(m, keep.len(), |i, c| d[i] * gu[(i, keep[c])] / gv[keep[c]].sqrt()))
 }
 
+/// Refined eigenvalues, their eigenvectors and the iterations it took.
+pub(crate) type Refined = (Vec<f64>, Mat<f64>, usize);
+
 /// LOBPCG from `x0` (`n x b`) until the first `wanted` Ritz pairs have converged, i.e. their
 /// relative residuals $\lVert H\phi - \lambda M\phi \rVert_{M^{-1}} / (|\lambda| + |\sigma|)$
 /// are at most `target` (the others are guard vectors: they enrich the Rayleigh-Ritz space and speed up the last wanted pairs).
 /// `factor` may hold an older potential: it is only a preconditioner. `Ok(None)` when it does
-/// not converge in `max_iter` iterations (the caller then solves cold).
-/// Refined eigenvalues, their eigenvectors and the iterations it took.
-pub(crate) type Refined = (Vec<f64>, Mat<f64>, usize);
-
+/// not converge in `max_iter` iterations (the caller then solves cold). The blocks live in
+/// `ws`.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn refine(
     factor: &ShiftedFactor,
@@ -135,24 +194,29 @@ pub(crate) fn refine(
     wanted: usize,
     target: f64,
     max_iter: usize,
+    ws: &mut Workspace,
 ) -> Result<Option<Refined>> {
     let (n, k) = (x0.nrows(), x0.ncols());
+    let nr = wanted.min(k);
     let mv: Vec<f64> = mass.iter().zip(potential).map(|(m, v)| m * v).collect();
-    let mut solve_mem = MemBuffer::new(factor.solve_scratch(wanted.min(k)));
+    let mut solve_mem = MemBuffer::new(factor.solve_scratch(nr));
 
-    let hx0 = h_mul(factor, &mv, x0);
-    let Some((mut lambda, c)) = rayleigh_ritz(x0, hx0.as_ref(), mass, k) else {
+    // S = X0 at the start: H X0 goes in the HS buffer.
+    h_mul(factor, &mv, x0, block_mut(&mut ws.hs, n, k));
+    let Some((mut lambda, c)) = rayleigh_ritz(x0, block(&ws.hs, k), mass, k, &mut ws.ms) else {
         return Ok(None);
     };
-    let mut x = mat_mul(x0, c.as_ref());
-    let mut hx = mat_mul(hx0.as_ref(), c.as_ref());
-    let mut p: Option<(Mat<f64>, Mat<f64>)> = None;
+    mat_mul_into(block_mut(&mut ws.x, n, k), x0, c.as_ref());
+    mat_mul_into(block_mut(&mut ws.hx, n, k), block(&ws.hs, k), c.as_ref());
+    // Columns of P (and HP) from the previous iteration.
+    let mut np: Option<usize> = None;
 
     for it in 0..max_iter {
         // Residuals and the active set.
-        let mut r = Mat::<f64>::zeros(n, wanted.min(k));
+        let mut r = block_mut(&mut ws.r, n, nr);
+        let (x, hx) = (block(&ws.x, k), block(&ws.hx, k));
         let mut active = Vec::new();
-        for j in 0..wanted.min(k) {
+        for j in 0..nr {
             let mut s2 = 0.0;
             for i in 0..n {
                 let ri = hx[(i, j)] - mass[i] * lambda[j] * x[(i, j)];
@@ -164,31 +228,53 @@ pub(crate) fn refine(
             }
         }
         if active.is_empty() {
-            return Ok(Some((lambda, x, it)));
+            return Ok(Some((lambda, x.to_owned(), it)));
         }
         let na = active.len();
-        let mut w = Mat::from_fn(n, na, |i, c| r[(i, active[c])]);
-        factor.solve_in_place(w.as_mut(), MemStack::new(&mut solve_mem));
-        let hw = h_mul(factor, &mv, w.as_ref());
-        let (s, hs) = match &p {
-            Some((pp, hp)) => (
-                hcat(&[x.as_ref(), w.as_ref(), pp.as_ref()]),
-                hcat(&[hx.as_ref(), hw.as_ref(), hp.as_ref()]),
-            ),
-            None => (hcat(&[x.as_ref(), w.as_ref()]), hcat(&[hx.as_ref(), hw.as_ref()])),
-        };
-        let Some((new_lambda, c)) = rayleigh_ritz(s.as_ref(), hs.as_ref(), mass, k) else {
+        let mut w = block_mut(&mut ws.w, n, na);
+        for (c, &j) in active.iter().enumerate() {
+            w.rb_mut().col_mut(c).copy_from(r.as_ref().col(j));
+        }
+        factor.solve_in_place(w.rb_mut(), MemStack::new(&mut solve_mem));
+        let w = block(&ws.w, na);
+        h_mul(factor, &mv, w, block_mut(&mut ws.hw, n, na));
+        let hw = block(&ws.hw, na);
+        // S = [X, W, P] and HS = [HX, HW, HP].
+        let m = k + na + np.unwrap_or(0);
+        let mut s = block_mut(&mut ws.s, n, m);
+        let mut hs = block_mut(&mut ws.hs, n, m);
+        s.rb_mut().subcols_mut(0, k).copy_from(x);
+        s.rb_mut().subcols_mut(k, na).copy_from(w);
+        hs.rb_mut().subcols_mut(0, k).copy_from(hx);
+        hs.rb_mut().subcols_mut(k, na).copy_from(hw);
+        if let Some(np) = np {
+            s.rb_mut()
+                .subcols_mut(k + na, np)
+                .copy_from(block(&ws.p, np));
+            hs.rb_mut()
+                .subcols_mut(k + na, np)
+                .copy_from(block(&ws.hp, np));
+        }
+        let (s, hs) = (block(&ws.s, m), block(&ws.hs, m));
+        let Some((new_lambda, c)) = rayleigh_ritz(s, hs, mass, k, &mut ws.ms) else {
             return Ok(None);
         };
         // P = the non-X part of the update, for the active columns.
-        let m = s.ncols();
         let c_rest = Mat::from_fn(m - k, na, |i, a| c[(k + i, active[a])]);
-        let pn = mat_mul(s.as_ref().subcols(k, m - k), c_rest.as_ref());
-        let hpn = mat_mul(hs.as_ref().subcols(k, m - k), c_rest.as_ref());
-        x = mat_mul(s.as_ref(), c.as_ref());
-        hx = mat_mul(hs.as_ref(), c.as_ref());
+        mat_mul_into(
+            block_mut(&mut ws.p, n, na),
+            s.subcols(k, m - k),
+            c_rest.as_ref(),
+        );
+        mat_mul_into(
+            block_mut(&mut ws.hp, n, na),
+            hs.subcols(k, m - k),
+            c_rest.as_ref(),
+        );
+        mat_mul_into(block_mut(&mut ws.x, n, k), s, c.as_ref());
+        mat_mul_into(block_mut(&mut ws.hx, n, k), hs, c.as_ref());
         lambda = new_lambda;
-        p = Some((pn, hpn));
+        np = Some(na);
     }
     Ok(None)
 }
@@ -233,6 +319,65 @@ mod tests {
         });
         let g = mat_tr_mul(v.as_ref(), v.as_ref());
         Mat::from_fn(cols, cols, |i, j| g[(i, j)] / (g[(i, i)] * g[(j, j)]).sqrt())
+    }
+
+    /// The path-graph Laplacian on `n` vertices (a `W` for [`refine`]).
+    fn path_laplacian(n: usize) -> crate::operators::SparseMatrix {
+        use faer::sparse::Triplet;
+        let mut trip = Vec::new();
+        for i in 0..n - 1 {
+            trip.push(Triplet::new(i, i + 1, -1.0));
+            trip.push(Triplet::new(i + 1, i, -1.0));
+            trip.push(Triplet::new(i, i, 1.0));
+            trip.push(Triplet::new(i + 1, i + 1, 1.0));
+        }
+        crate::operators::SparseMatrix::try_new_from_triplets(n, n, &trip).expect("valid triplets")
+    }
+
+    /// `refine` on the path of `n` vertices with a `b`-column start, in `ws`.
+    fn refine_path(n: usize, b: usize, ws: &mut Workspace) -> Refined {
+        let mut factor = ShiftedFactor::new(&path_laplacian(n)).expect("symmetric");
+        let mass: Vec<f64> = (0..n).map(|i| 1.0 + 0.01 * i as f64).collect();
+        let potential: Vec<f64> = (0..n).map(|i| if i < n / 3 { 0.0 } else { 5.0 }).collect();
+        let sigma = -1.0 / mass.iter().sum::<f64>();
+        let d: Vec<f64> = mass
+            .iter()
+            .zip(&potential)
+            .map(|(m, v)| m * (v - sigma))
+            .collect();
+        factor.factorize(&d).expect("positive definite");
+        let x0 = Mat::from_fn(n, b, |i, j| {
+            super::super::eigensolver::start_value(i as u64, j as u64)
+        });
+        let out = refine(
+            &factor,
+            &mass,
+            &potential,
+            sigma,
+            x0.as_ref(),
+            b - 2,
+            1e-10,
+            100,
+            ws,
+        );
+        out.expect("solve").expect("converged")
+    }
+
+    #[test]
+    fn a_reused_workspace_gives_bitwise_the_results_of_a_fresh_one() {
+        let fresh = refine_path(60, 8, &mut Workspace::new());
+        // Buffers left by other solves: more rows, then as many rows and more columns.
+        let mut ws = Workspace::new();
+        refine_path(80, 12, &mut ws);
+        refine_path(60, 10, &mut ws);
+        let reused = refine_path(60, 8, &mut ws);
+        let bits = |r: &Refined| {
+            let vectors = (0..r.1.ncols()).flat_map(|j| (0..r.1.nrows()).map(move |i| (i, j)));
+            let mut b: Vec<u64> = r.0.iter().map(|v| v.to_bits()).collect();
+            b.extend(vectors.map(|ij| r.1[ij].to_bits()));
+            (b, r.1.ncols(), r.2)
+        };
+        assert_eq!(bits(&fresh), bits(&reused));
     }
 
     #[test]

@@ -77,6 +77,8 @@ pub struct HamiltonianSolver {
     checked: Option<(Vec<f64>, f64)>,
     /// Warm solves whose inertia check was skipped as provably unnecessary.
     unchecked_solves: usize,
+    /// The LOBPCG blocks, reused by every solve.
+    workspace: block::Workspace,
 }
 
 /// The symbolic Cholesky analysis of $W + \mathrm{diag}(d)$ for one stiffness $W$: checked
@@ -166,6 +168,7 @@ impl HamiltonianSolver {
             missed_solves: 0,
             checked: None,
             unchecked_solves: 0,
+            workspace: block::Workspace::new(),
             params,
         })
     }
@@ -359,7 +362,7 @@ impl HamiltonianSolver {
     /// on step potentials ~50x
     /// the wanted eigenvalues (tens of seconds per solve against ~0.4 s for this path on a
     /// 2,500-vertex shape).
-    fn cold(&self) -> Result<(Vec<f64>, Mat<f64>, usize)> {
+    fn cold(&mut self) -> Result<(Vec<f64>, Mat<f64>, usize)> {
         let n = self.n();
         let k = self.params.k;
         let nev = k + self.guards();
@@ -383,6 +386,7 @@ impl HamiltonianSolver {
                 nev,
                 cold_target(self.params.tol),
                 self.params.max_cold_iter,
+                &mut self.workspace,
             )?
             else {
                 // Not converged (a stall of the block iteration): another random block.
@@ -426,6 +430,7 @@ impl HamiltonianSolver {
             k,
             residual_bound(self.params.tol),
             self.params.max_iter,
+            &mut self.workspace,
         )?;
         let Some((values, vectors, iters)) = out else {
             return Ok(None);
