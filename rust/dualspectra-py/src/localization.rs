@@ -42,6 +42,10 @@ pub struct Candidate {
     /// Partial-to-region descriptor fit (lower is better; `None` for an empty region).
     #[pyo3(get)]
     partial_fit: Option<f64>,
+    /// Share of the partial's descriptor votes inside the region (higher is better; `None`
+    /// without descriptors).
+    #[pyo3(get)]
+    vote_share: Option<f64>,
     /// Trust-region iterations and cost evaluations of its run.
     #[pyo3(get)]
     iterations: usize,
@@ -189,6 +193,7 @@ impl Localization {
                         region_cost: c.scores.region_cost,
                         boundary_misfit: c.scores.boundary_misfit,
                         partial_fit: c.scores.partial_fit,
+                        vote_share: c.scores.vote_share,
                         iterations: c.iterations,
                         evaluations: c.evaluations,
                         n_selected: c.region.iter().filter(|&&b| b).count(),

@@ -18,16 +18,6 @@ use serde::{Deserialize, Serialize};
 use crate::shape::{Metric, Shape};
 use crate::spectra::{EigenParams, HamiltonianSolver, Spectrum};
 
-/// The gate of [`choose`]: a candidate is admitted when its region cost is at most this multiple
-/// of the lowest (2 was worse in two of three measurements, 4 to 6 equal:
-/// docs/benchmarks/options.md).
-pub const REGION_COST_GATE: f64 = 3.0;
-
-/// The gate always admits regions whose eigenvalues match the partial's to this
-/// root-mean-square relative error (region cost <= n * 0.1^2): where several regions fit almost
-/// exactly (a near-symmetric shape), a multiple of the lowest would wrongly exclude good fits.
-pub const REGION_COST_FLOOR_RMS: f64 = 0.1;
-
 /// Weight $\beta$ of the boundary-length misfit in [`choose`]: the ranking is multiplied by
 /// $\exp(\beta\,|\ln(L_R/L_N)|)$ (docs/benchmarks/options.md).
 pub const BOUNDARY_WEIGHT: f64 = 0.5;
@@ -258,7 +248,37 @@ pub fn boundary_misfit(region_length: f64, partial_length: f64) -> f64 {
 /// docs/benchmarks/options.md).
 pub const PARTIAL_FIT_EXPONENT: f64 = 4.0;
 
-/// The scores of one candidate region (lower is better for each; `None`: not computed).
+/// Exponent $\delta$ of the vote share ([`vote_shares`]) in [`choose`]'s ranking
+/// (docs/benchmarks/options.md, "Vote share").
+pub const VOTE_SHARE_EXPONENT: f64 = 6.0;
+
+/// Vote shares below this count as this in the ranking (a region with almost no vote is
+/// ranked as one with 0.1 %, not infinitely worse).
+const VOTE_SHARE_FLOOR: f64 = 1e-3;
+
+/// Share of the partial's descriptor votes
+/// ([`crate::alignment::starts::DescriptorMatches::votes`], one per vertex) that each region
+/// holds: $s_R = \sum_{i \in R} c_i / \sum_i c_i$ (higher is better: the partial's
+/// distinctive local shapes are found inside the region). NaN for no vote.
+pub fn vote_shares(votes: &[f64], regions: &[&[bool]]) -> Result<Vec<f64>> {
+    if let Some(r) = regions.iter().find(|r| r.len() != votes.len()) {
+        return Err(crate::error::Error::InvalidArgument(format!("a region of {} vertices for {} votes", r.len(), votes.len())));
+    }
+    let total: f64 = votes.iter().sum();
+    Ok(regions
+        .iter()
+        .map(|r| {
+            if total > 0.0 {
+                votes.iter().zip(r.iter()).filter(|(_, &inside)| inside).map(|(v, _)| v).sum::<f64>() / total
+            } else {
+                f64::NAN
+            }
+        })
+        .collect())
+}
+
+/// The scores of one candidate region (lower is better for each but the vote share; `None`:
+/// not computed).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 pub struct CandidateScore {
     /// Descriptor projection score ([`RegionScores::descriptors`]).
@@ -269,34 +289,36 @@ pub struct CandidateScore {
     pub boundary_misfit: Option<f64>,
     /// [`partial_fits`] (`None` for an empty region).
     pub partial_fit: Option<f64>,
+    /// [`vote_shares`] (higher is better; `None` without descriptor votes).
+    #[serde(default)]
+    pub vote_share: Option<f64>,
 }
 
 impl CandidateScore {
-    /// $d\,f^\gamma \exp(\beta\,m)$: the descriptor score $d$, the partial fit $f$ to the power
-    /// [`PARTIAL_FIT_EXPONENT`], the [`boundary_misfit`] $m$ with weight [`BOUNDARY_WEIGHT`]
-    /// (a missing misfit counts as 0). `None` if $d$ or $f$ is missing.
+    /// $d\,f^\gamma \exp(\beta\,m) / s^\delta$: the descriptor score $d$, the partial fit $f$
+    /// to the power [`PARTIAL_FIT_EXPONENT`], the [`boundary_misfit`] $m$ with weight
+    /// [`BOUNDARY_WEIGHT`], the vote share $s$ (at least 0.001) to the power
+    /// [`VOTE_SHARE_EXPONENT`] (a missing misfit counts as 0, a missing share as 1). `None` if
+    /// $d$ or $f$ is missing.
     pub fn ranking(&self) -> Option<f64> {
         let m = self.boundary_misfit.filter(|m| !m.is_nan()).unwrap_or(0.0);
-        let r = self.descriptor_score? * self.partial_fit?.powf(PARTIAL_FIT_EXPONENT) * (BOUNDARY_WEIGHT * m).exp();
+        let share = self.vote_share.filter(|s| s.is_finite()).map_or(1.0, |s| s.max(VOTE_SHARE_FLOOR));
+        let r = self.descriptor_score? * self.partial_fit?.powf(PARTIAL_FIT_EXPONENT) * (BOUNDARY_WEIGHT * m).exp()
+            / share.powf(VOTE_SHARE_EXPONENT);
         (!r.is_nan()).then_some(r)
     }
 }
 
 /// The chosen candidate (an index into `scores`; `None` for no candidate): among those whose
-/// region cost is at most [`REGION_COST_GATE`] times the lowest or at most `floor` (all of
-/// them if no region cost is known), the lowest [`CandidateScore::ranking`]; ties go to the
-/// lower index, a missing ranking ranks last. The region cost rules out regions that do not
-/// reproduce the partial's spectra; the descriptors, the partial fit (which tells a region
-/// from its mirror twin) and the boundary choose among the rest.
-pub fn choose(scores: &[CandidateScore], floor: f64) -> Option<usize> {
-    let finite = |x: Option<f64>| x.filter(|v| v.is_finite());
-    let best = scores.iter().filter_map(|s| finite(s.region_cost)).fold(f64::INFINITY, f64::min);
-    let gated: Vec<usize> = if best.is_finite() {
-        let gate = (REGION_COST_GATE * best).max(floor);
-        (0..scores.len()).filter(|&i| scores[i].region_cost.is_some_and(|c| c <= gate)).collect()
-    } else {
-        (0..scores.len()).collect()
-    };
+/// region's own spectra could be computed (a region cost is known; all of them if none is),
+/// the lowest [`CandidateScore::ranking`]; ties go to the lower index, a missing ranking
+/// ranks last. The spectra led the optimisation to the candidates; the descriptors, the
+/// vote share, the partial fit (which tells a region from its mirror twin) and the boundary
+/// choose among them. A region-cost gate (3x the lowest) was dropped with the vote share:
+/// docs/benchmarks/options.md ("Vote share").
+pub fn choose(scores: &[CandidateScore]) -> Option<usize> {
+    let costed: Vec<usize> = (0..scores.len()).filter(|&i| scores[i].region_cost.is_some()).collect();
+    let gated = if costed.is_empty() { (0..scores.len()).collect() } else { costed };
     let key = |i: usize| scores[i].ranking().unwrap_or(f64::INFINITY);
     gated.into_iter().min_by(|&a, &b| key(a).total_cmp(&key(b)).then(a.cmp(&b)))
 }
@@ -377,7 +399,7 @@ mod tests {
         let a2 = [true, true, true, true, false, false];
         let b = [false, false, false, true, true, true];
         let regions: Vec<&[bool]> = vec![&a, &a2, &b, &b];
-        let sc = |d: f64, fit: f64| CandidateScore { descriptor_score: Some(d), region_cost: Some(1.0), boundary_misfit: Some(0.0), partial_fit: Some(fit) };
+        let sc = |d: f64, fit: f64| CandidateScore { descriptor_score: Some(d), region_cost: Some(1.0), boundary_misfit: Some(0.0), partial_fit: Some(fit), vote_share: None };
         let mut scores = vec![sc(1.0, 0.5), sc(2.0, 0.5), sc(4.0, 0.5), sc(8.0, 0.5)];
         let g = agreement(&regions, &scores, 0);
         assert_eq!(g.consensus, 0.5);
@@ -394,7 +416,7 @@ mod tests {
 
     #[test]
     fn confidence_is_a_probability_rising_with_the_margin_and_falling_with_a_worse_fit() {
-        let s = |fit: f64, cost: f64| CandidateScore { descriptor_score: Some(1.0), region_cost: Some(cost), boundary_misfit: Some(0.0), partial_fit: Some(fit) };
+        let s = |fit: f64, cost: f64| CandidateScore { descriptor_score: Some(1.0), region_cost: Some(cost), boundary_misfit: Some(0.0), partial_fit: Some(fit), vote_share: None };
         let g = |margin: f64| Agreement { consensus: 0.5, margin };
         let c = confidence(&s(0.45, 1.0), &g(0.5));
         assert!(c > 0.0 && c < 1.0, "{c}");
@@ -413,14 +435,29 @@ mod tests {
     /// A score with every entry known (NaN entries become `None`).
     fn score(desc: f64, region: f64, misfit: f64, fit: f64) -> CandidateScore {
         let some = |x: f64| (!x.is_nan()).then_some(x);
-        CandidateScore { descriptor_score: some(desc), region_cost: some(region), boundary_misfit: some(misfit), partial_fit: some(fit) }
+        CandidateScore { descriptor_score: some(desc), region_cost: some(region), boundary_misfit: some(misfit), partial_fit: some(fit), vote_share: None }
     }
 
-    fn pick(desc: &[f64], region: &[f64], misfit: &[f64], fit: &[f64], floor: f64) -> Option<usize> {
+    fn pick(desc: &[f64], region: &[f64], misfit: &[f64], fit: &[f64]) -> Option<usize> {
         let at = |v: &[f64], i: usize| v.get(i).copied().unwrap_or(f64::NAN);
         let scores: Vec<CandidateScore> =
             (0..desc.len()).map(|i| score(desc[i], at(region, i), at(misfit, i), fit.get(i).copied().unwrap_or(1.0))).collect();
-        choose(&scores, floor)
+        choose(&scores)
+    }
+
+    #[test]
+    fn vote_share_is_the_fraction_of_votes_inside_and_divides_the_ranking() {
+        let votes = [2.0, 1.0, 0.0, 1.0];
+        let regions: [&[bool]; 3] = [&[true, false, false, false], &[false, true, true, true], &[false; 4]];
+        assert_eq!(vote_shares(&votes, &regions).unwrap(), vec![0.5, 0.5, 0.0]);
+        assert!(vote_shares(&[0.0; 4], &regions).unwrap().iter().all(|s| s.is_nan()));
+        assert!(vote_shares(&votes[..3], &regions).is_err());
+        // Twice the share: the ranking divided by 2^delta; a missing share counts as 1, a
+        // zero share as the floor.
+        let with = |s: Option<f64>| CandidateScore { vote_share: s, ..score(2.0, 1.0, 0.0, 0.5) }.ranking().unwrap();
+        assert!((with(Some(0.25)) / with(Some(0.5)) - 2f64.powf(VOTE_SHARE_EXPONENT)).abs() < 1e-9);
+        assert_eq!(with(None), with(Some(1.0)));
+        assert_eq!(with(Some(0.0)), with(Some(VOTE_SHARE_FLOOR)));
     }
 
     #[test]
@@ -494,33 +531,35 @@ mod tests {
     }
 
     #[test]
-    fn choose_gates_by_region_cost_and_ranks_the_rest() {
-        let desc = [40.0, 10.0, 30.0, 20.0];
+    fn choose_ranks_the_candidates_with_a_region_cost() {
+        let desc = [40.0, 10.0, 30.0, 5.0];
         let region = [90.0, 3.0, 2.0, f64::NAN];
-        // Gate: region costs <= 3 x 2.0 keep 1 and 2 (not 0: 90, not 3: unknown); lowest desc is 1.
-        assert_eq!(pick(&desc, &region, &[], &[], 0.0), Some(1));
-        // Without 1 the gate keeps 2 alone.
-        assert_eq!(pick(&[40.0, 1e9, 30.0, 20.0], &region, &[], &[], 0.0), Some(2));
-        // A wider gate admits the better descriptor score.
-        assert_eq!(pick(&[1.0, 3.0, 0.5], &[5.0, 2.0, 7.0], &[], &[], 0.0), Some(0));
+        // The lowest ranking among those with a region cost (not 3: unknown), whatever the cost.
+        assert_eq!(pick(&desc, &region, &[], &[]), Some(1));
+        assert_eq!(pick(&[1.0, 1e9, 30.0, 0.1], &region, &[], &[]), Some(0));
         // No known region cost: the ranking alone.
-        assert_eq!(pick(&desc, &[], &[], &[], 0.0), Some(1));
-        assert_eq!(choose(&[], 0.0), None);
-        // All region costs small: the floor admits every good fit, not just 3x the best.
-        let small = [0.02, 0.13, 0.09, 0.4];
-        assert_eq!(pick(&[9.0, 3.0, 2.0, 1.0], &small, &[], &[], 0.0), Some(0));
-        assert_eq!(pick(&[9.0, 3.0, 2.0, 1.0], &small, &[], &[], 0.2), Some(2));
+        assert_eq!(pick(&desc, &[], &[], &[]), Some(3));
+        assert_eq!(choose(&[]), None);
+        // Ties go to the lower index.
+        assert_eq!(pick(&[2.0, 2.0], &[1.0, 1.0], &[], &[]), Some(0));
+        // A higher vote share outweighs a descriptor score 2^6 times worse, not 2^7.
+        let shared = |d: [f64; 2], v: [f64; 2]| {
+            let s: Vec<CandidateScore> = (0..2).map(|i| CandidateScore { vote_share: Some(v[i]), ..score(d[i], 1.0, 0.0, 1.0) }).collect();
+            choose(&s)
+        };
+        assert_eq!(shared([1.0, 60.0], [0.4, 0.8]), Some(1));
+        assert_eq!(shared([1.0, 70.0], [0.4, 0.8]), Some(0));
         // A boundary far longer than the partial's (misfit ln 4) outweighs a 10% better
         // descriptor score; a missing misfit counts as a perfect fit.
         let misfit = [0.0, 4f64.ln(), f64::NAN];
-        assert_eq!(pick(&[1.0, 0.9], &[1.0; 2], &misfit, &[], 0.0), Some(0));
-        assert_eq!(pick(&[f64::INFINITY, 0.9, 0.95], &[1.0; 3], &misfit, &[], 0.0), Some(2));
+        assert_eq!(pick(&[1.0, 0.9], &[1.0; 2], &misfit, &[]), Some(0));
+        assert_eq!(pick(&[f64::INFINITY, 0.9, 0.95], &[1.0; 3], &misfit, &[]), Some(2));
         // Mirror twins: equal descriptor scores and region costs, the partial fit decides
         // (f^4: 0.40 against 0.45, a factor 1.60, outweighs a 50% worse descriptor score, not
         // a 70% one); a missing fit (an empty region) ranks last.
-        assert_eq!(pick(&[1.0, 1.5], &[1.0; 2], &[], &[0.45, 0.40], 0.0), Some(1));
-        assert_eq!(pick(&[1.0, 1.7], &[1.0; 2], &[], &[0.45, 0.40], 0.0), Some(0));
-        assert_eq!(pick(&[1.0, 1.0], &[1.0; 2], &[], &[f64::NAN, 0.40], 0.0), Some(1));
+        assert_eq!(pick(&[1.0, 1.5], &[1.0; 2], &[], &[0.45, 0.40]), Some(1));
+        assert_eq!(pick(&[1.0, 1.7], &[1.0; 2], &[], &[0.45, 0.40]), Some(0));
+        assert_eq!(pick(&[1.0, 1.0], &[1.0; 2], &[], &[f64::NAN, 0.40]), Some(1));
         assert!((boundary_misfit(2.0, 1.0) - 2f64.ln()).abs() < 1e-15);
         assert_eq!(boundary_misfit(1.0, 2.0), boundary_misfit(2.0, 1.0));
         assert!(boundary_misfit(0.0, 1.0).is_nan());

@@ -296,6 +296,7 @@ fn one_localizer_locates_several_partials_as_one_call_does() {
         for c in &found.candidates {
             let s = c.scores;
             assert!(s.descriptor_score.is_some() && s.region_cost.is_some() && s.partial_fit.is_some(), "{}: {s:?}", c.label);
+            assert!(s.vote_share.is_some_and(|v| (0.0..=1.0).contains(&v)), "{}: {s:?}", c.label);
         }
     }
 }

@@ -54,7 +54,7 @@ fn assert_identical(a: &Localization, b: &Localization) {
     for (x, y) in a.candidates.iter().zip(&b.candidates) {
         assert_eq!((&x.label, x.cost.to_bits(), x.iterations, &x.region), (&y.label, y.cost.to_bits(), y.iterations, &y.region));
         let s = |c: &dualspectra::Candidate| {
-            [c.scores.region_cost, c.scores.descriptor_score, c.scores.partial_fit, c.scores.boundary_misfit].map(|v| v.map(f64::to_bits))
+            [c.scores.region_cost, c.scores.descriptor_score, c.scores.partial_fit, c.scores.boundary_misfit, c.scores.vote_share].map(|v| v.map(f64::to_bits))
         };
         assert_eq!(s(x), s(y), "{}", x.label);
     }

@@ -65,6 +65,9 @@ class Candidate:
     def partial_fit(self) -> Optional[float]:
         """Partial-to-region descriptor fit (lower is better; ``None`` for an empty region)."""
     @property
+    def vote_share(self) -> Optional[float]:
+        """Share of the partial's descriptor votes inside the region (higher is better; ``None`` without descriptors)."""
+    @property
     def iterations(self) -> int:
         """Trust-region iterations of its run."""
     @property

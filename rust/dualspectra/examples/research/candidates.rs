@@ -4,7 +4,7 @@
 //!
 //! `cargo run --release --example research_candidates -- DATASET [STRIDE] [OFFSET] [OPTIONS_JSON]`
 //!
-//! One line per candidate: pair, label, final cost, the four selection scores, its
+//! One line per candidate: pair, label, final cost, the five selection scores, its
 //! symmetry-aware IoU, `*` on the chosen one. One [`Localizer`] per full shape.
 //!
 //! `DS_GT_START=1` adds the ground-truth region as one more start (`given#0`): whether the
@@ -26,7 +26,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let gt_start = std::env::var("DS_GT_START").is_ok_and(|v| v == "1");
     let show = |x: Option<f64>| x.map_or("-".to_string(), |v| format!("{v:.4}"));
-    println!("pair label cost descriptor_score region_cost boundary_misfit partial_fit iou_sym chosen");
+    println!("pair label cost descriptor_score region_cost boundary_misfit partial_fit vote_share iou_sym chosen");
     let mut prepared: HashMap<std::path::PathBuf, Localizer> = HashMap::new();
     for pair in Dataset::open(root)?.pairs()?.iter().skip(offset).step_by(stride) {
         let data = pair.load()?;
@@ -42,7 +42,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             };
             let s = c.scores;
             println!(
-                "{} {} {:.4e} {} {} {} {} {iou:.3} {}",
+                "{} {} {:.4e} {} {} {} {} {} {iou:.3} {}",
                 pair.name,
                 c.label,
                 c.cost,
@@ -50,6 +50,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 show(s.region_cost),
                 show(s.boundary_misfit),
                 show(s.partial_fit),
+                show(s.vote_share),
                 if i == found.selected_start { "*" } else { "" }
             );
         }

@@ -18,7 +18,7 @@ use dualspectra::evaluation::datasets::Dataset;
 use dualspectra::evaluation::metrics::{scores, symmetry_aware};
 use dualspectra::evaluation::similarity::{dual_shape_dna, Descriptor};
 use dualspectra::mesh::io::{read_mesh_with_report, ReadOptions};
-use dualspectra::selection::{agreement, CandidateScore, REGION_COST_FLOOR_RMS, REGION_COST_GATE};
+use dualspectra::selection::{agreement, CandidateScore};
 use dualspectra::search::similarity_score_of;
 use dualspectra::{Candidate, Localization, Localizer, Options, Progress};
 use serde::{Deserialize, Serialize};
@@ -260,9 +260,10 @@ const SCORERS: &[Scorer] = &[
         finite(Some(m))
     }),
     ("min partial_fit, gated", |p| {
-        // Among the candidates the selection's region-cost gate admits.
+        // Among the candidates the region-cost gate of the earlier selection (3x the lowest,
+        // floor n_mu * 0.1^2) admitted.
         let best = p.candidates.iter().filter_map(|c| finite(c.scores.region_cost)).fold(f64::INFINITY, f64::min);
-        let gate = (REGION_COST_GATE * best).max(n_mu(p) * REGION_COST_FLOOR_RMS.powi(2));
+        let gate = (3.0 * best).max(n_mu(p) * 0.01);
         let m = p
             .candidates
             .iter()

@@ -213,10 +213,10 @@ pub fn plane_cut_starts_from_heights(heights: &[Vec<f64>], mass: &[f64], area: f
         .collect()
 }
 
-/// Partial vertices [`descriptor_starts`] compares (every `ceil(n / this)`-th).
+/// Partial vertices [`descriptor_matches`] compares (every `ceil(n / this)`-th).
 pub const DESCRIPTOR_START_SAMPLES: usize = 2000;
 
-/// Full-shape vertices per block of [`descriptor_starts`]' distances (bounds its memory to
+/// Full-shape vertices per block of [`descriptor_matches`]' distances (bounds its memory to
 /// `DESCRIPTOR_START_SAMPLES x DESCRIPTOR_START_BLOCK` distances, ~33 MB, for any resolution).
 const DESCRIPTOR_START_BLOCK: usize = 2048;
 
@@ -225,58 +225,24 @@ pub const DESCRIPTOR_START_SMOOTHING: usize = 3;
 
 /// Starts from descriptor correspondences, for partials no ball or plane resembles (a whole
 /// body with holes): with $D_M(i)$ the full shape's SHOT descriptors and $D_N(j)$ a sample
-/// of the partial's,
+/// of the partial's, $d_1(j) \le d_2(j)$ the distances from $D_N(j)$ to its nearest and
+/// second-nearest $D_M$,
 /// - `fit`: the vertices whose distance to the nearest partial descriptor,
 ///   $\min_j \lVert D_M(i) - D_N(j)\rVert$, is lowest (vertices inside a hole have no
 ///   counterpart);
-/// - `vote`: the vertices nearest (in descriptor space) to the most partial vertices,
-///   each partial vertex voting for its nearest full-shape vertex;
+/// - `vote`: the vertices the partial's vertices match best: each sampled partial vertex $j$
+///   votes for its nearest full-shape vertex with weight $1 - d_1(j)/d_2(j)$, Lowe's ratio
+///   test (Lowe 2004, "Distinctive image features from scale-invariant keypoints"): a
+///   vertex whose descriptor many full-shape vertices share nearly as well (a flat or
+///   symmetric stretch) votes little;
 ///
 /// each averaged over one-rings [`DESCRIPTOR_START_SMOOTHING`] times, then the partial's area
 /// of the best vertices taken as a step start ([`mask_start`]). docs/algorithm.md ("Starts");
 /// why: docs/benchmarks/options.md ("Descriptor starts").
-pub fn descriptor_starts(
-    full_descriptors: &faer::Mat<f64>,
-    partial_descriptors: &faer::Mat<f64>,
-    neighbors: &[Vec<u32>],
-    mass: &[f64],
-    area: f64,
-) -> Vec<Start> {
-    let (n, d) = (full_descriptors.nrows(), full_descriptors.ncols());
-    if n == 0 || partial_descriptors.nrows() == 0 || partial_descriptors.ncols() != d || neighbors.len() != n {
+pub fn descriptor_starts(matches: &DescriptorMatches, neighbors: &[Vec<u32>], mass: &[f64], area: f64) -> Vec<Start> {
+    let n = matches.fit.len();
+    if n == 0 || neighbors.len() != n || mass.len() != n {
         return Vec::new();
-    }
-    let step = partial_descriptors.nrows().div_ceil(DESCRIPTOR_START_SAMPLES).max(1);
-    let sample: Vec<usize> = (0..partial_descriptors.nrows()).step_by(step).collect();
-    let a = faer::Mat::<f64>::from_fn(sample.len(), d, |i, c| partial_descriptors[(sample[i], c)]);
-    let norm2 = |m: &faer::Mat<f64>, i: usize| (0..d).map(|c| m[(i, c)].powi(2)).sum::<f64>();
-    let p2: Vec<f64> = (0..sample.len()).map(|j| norm2(&a, j)).collect();
-    // Distances by blocks of full-shape rows (memory bounded for any resolution); per full
-    // vertex the nearest sampled partial descriptor, per sampled partial vertex the nearest
-    // full vertex (ties to the lower index).
-    let mut fit = vec![0.0; n];
-    let mut nearest = vec![(f64::INFINITY, 0usize); sample.len()];
-    for start in (0..n).step_by(DESCRIPTOR_START_BLOCK) {
-        let rows = DESCRIPTOR_START_BLOCK.min(n - start);
-        let block = full_descriptors.as_ref().subrows(start, rows);
-        let mut dot = faer::Mat::<f64>::zeros(rows, sample.len());
-        faer::linalg::matmul::matmul(dot.as_mut(), faer::Accum::Replace, block, a.transpose(), 1.0, faer::Par::Seq);
-        for r in 0..rows {
-            let f2 = norm2(full_descriptors, start + r);
-            let mut own = f64::INFINITY;
-            for (j, best) in nearest.iter_mut().enumerate() {
-                let distance = (f2 + p2[j] - 2.0 * dot[(r, j)]).max(0.0).sqrt();
-                own = own.min(distance);
-                if distance < best.0 {
-                    *best = (distance, start + r);
-                }
-            }
-            fit[start + r] = -own;
-        }
-    }
-    let mut votes = vec![0.0; n];
-    for &(_, i) in &nearest {
-        votes[i] += 1.0;
     }
     let smooth = |mut x: Vec<f64>| {
         for _ in 0..DESCRIPTOR_START_SMOOTHING {
@@ -293,10 +259,85 @@ pub fn descriptor_starts(
         }
         x
     };
-    [("fit", fit), ("vote", votes)]
+    [("fit", &matches.fit), ("vote", &matches.votes)]
         .into_iter()
-        .map(|(label, score)| mask_start(&crate::geometry::area_matched_set(&smooth(score), mass, area), &format!("descriptor-{label}")))
+        .map(|(label, score)| mask_start(&crate::geometry::area_matched_set(&smooth(score.clone()), mass, area), &format!("descriptor-{label}")))
         .collect()
+}
+
+/// The partial's descriptor correspondences on the full shape, per full-shape vertex $i$
+/// ([`descriptor_matches`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct DescriptorMatches {
+    /// $-\min_j \lVert D_M(i) - D_N(j)\rVert$ over the sampled partial vertices $j$.
+    pub fit: Vec<f64>,
+    /// $\sum_j (1 - d_1(j)/d_2(j))$ over the sampled partial vertices $j$ whose nearest
+    /// full-shape descriptor is $D_M(i)$ (Lowe's ratio; a tie counts 0).
+    pub votes: Vec<f64>,
+}
+
+/// The [`DescriptorMatches`] of the partial's descriptors (rows of `partial_descriptors`,
+/// every `ceil(n / DESCRIPTOR_START_SAMPLES)`-th) on the full shape's (rows of
+/// `full_descriptors`); `None` for no descriptor or mismatched dimensions. Distances by
+/// blocks of full-shape rows: memory bounded for any resolution.
+pub fn descriptor_matches(full_descriptors: &faer::Mat<f64>, partial_descriptors: &faer::Mat<f64>) -> Option<DescriptorMatches> {
+    let (n, d) = (full_descriptors.nrows(), full_descriptors.ncols());
+    if n == 0 || partial_descriptors.nrows() == 0 || partial_descriptors.ncols() != d {
+        return None;
+    }
+    let step = partial_descriptors.nrows().div_ceil(DESCRIPTOR_START_SAMPLES).max(1);
+    let sample: Vec<usize> = (0..partial_descriptors.nrows()).step_by(step).collect();
+    let a = faer::Mat::<f64>::from_fn(sample.len(), d, |i, c| partial_descriptors[(sample[i], c)]);
+    let norm2 = |m: &faer::Mat<f64>, i: usize| (0..d).map(|c| m[(i, c)].powi(2)).sum::<f64>();
+    let p2: Vec<f64> = (0..sample.len()).map(|j| norm2(&a, j)).collect();
+    // Per full vertex the nearest sampled partial descriptor; per sampled partial vertex the
+    // nearest full vertex (ties to the lower index) and the second-nearest distance.
+    let mut fit = vec![0.0; n];
+    let mut nearest = vec![Nearest2 { d1: f64::INFINITY, d2: f64::INFINITY, vertex: 0 }; sample.len()];
+    for start in (0..n).step_by(DESCRIPTOR_START_BLOCK) {
+        let rows = DESCRIPTOR_START_BLOCK.min(n - start);
+        let block = full_descriptors.as_ref().subrows(start, rows);
+        let mut dot = faer::Mat::<f64>::zeros(rows, sample.len());
+        faer::linalg::matmul::matmul(dot.as_mut(), faer::Accum::Replace, block, a.transpose(), 1.0, faer::Par::Seq);
+        for r in 0..rows {
+            let f2 = norm2(full_descriptors, start + r);
+            let mut own = f64::INFINITY;
+            for (j, best) in nearest.iter_mut().enumerate() {
+                let distance = (f2 + p2[j] - 2.0 * dot[(r, j)]).max(0.0).sqrt();
+                own = own.min(distance);
+                best.push(distance, start + r);
+            }
+            fit[start + r] = -own;
+        }
+    }
+    let mut votes = vec![0.0; n];
+    for m in &nearest {
+        // A tie (d1 = d2) is no evidence; d2 = 0 only if both are 0.
+        votes[m.vertex] += if m.d2 > 0.0 { 1.0 - m.d1 / m.d2 } else { 0.0 };
+    }
+    Some(DescriptorMatches { fit, votes })
+}
+
+/// The nearest and second-nearest distances seen so far and the nearest's vertex.
+#[derive(Debug, Clone, Copy)]
+struct Nearest2 {
+    d1: f64,
+    d2: f64,
+    vertex: usize,
+}
+
+impl Nearest2 {
+    /// Take `distance` to `vertex` into account (vertices in increasing order: ties keep the
+    /// lower index as the nearest, and make `d2 = d1`).
+    fn push(&mut self, distance: f64, vertex: usize) {
+        if distance < self.d1 {
+            self.d2 = self.d1;
+            self.d1 = distance;
+            self.vertex = vertex;
+        } else if distance < self.d2 {
+            self.d2 = distance;
+        }
+    }
 }
 
 /// A start from a guess of the region: $w_0 = 2 - 4 R_0$ (low potential on the mask).
@@ -329,7 +370,8 @@ mod tests {
             let rows: Vec<usize> = (0..points.len()).filter(|&i| truth[i]).collect();
             let partial = faer::Mat::<f64>::from_fn(rows.len(), d, |i, c| full[(rows[i], c)]);
             let area: f64 = rows.iter().map(|&i| mass[i]).sum();
-            let starts = descriptor_starts(&full, &partial, &neighbors, mass, area);
+            let matches = descriptor_matches(&full, &partial).unwrap();
+            let starts = descriptor_starts(&matches, &neighbors, mass, area);
             assert_eq!(starts.iter().map(|s| s.label.as_str()).collect::<Vec<_>>(), ["descriptor-fit", "descriptor-vote"]);
             for s in &starts {
                 let inside: Vec<bool> = s.w0.iter().map(|&w| w < 0.0).collect();
@@ -339,13 +381,30 @@ mod tests {
                 assert!((well_area(&s.w0, mass) - area).abs() < 0.02 * area + 0.01, "{}: area", s.label);
             }
             // Deterministic.
-            let again = descriptor_starts(&full, &partial, &neighbors, mass, area);
+            let again = descriptor_starts(&descriptor_matches(&full, &partial).unwrap(), &neighbors, mass, area);
             assert!(starts.iter().zip(&again).all(|(a, b)| a.w0 == b.w0));
         }
         // Mismatched dimensions or empty input give no start, not a panic.
         let other = faer::Mat::<f64>::zeros(5, d + 1);
-        assert!(descriptor_starts(&full, &other, &neighbors, mass, 0.1).is_empty());
-        assert!(descriptor_starts(&full, &faer::Mat::<f64>::zeros(0, d), &neighbors, mass, 0.1).is_empty());
+        assert!(descriptor_matches(&full, &other).is_none());
+        assert!(descriptor_matches(&full, &faer::Mat::<f64>::zeros(0, d)).is_none());
+        let matches = descriptor_matches(&full, &full).unwrap();
+        assert!(descriptor_starts(&matches, &neighbors[1..], mass, 0.1).is_empty());
+    }
+
+    #[test]
+    fn nearest_two_keeps_the_lower_index_and_a_tie_as_the_second_distance() {
+        let mut m = Nearest2 { d1: f64::INFINITY, d2: f64::INFINITY, vertex: 0 };
+        for (i, d) in [3.0, 1.0, 2.0, 1.0, 5.0].into_iter().enumerate() {
+            m.push(d, i);
+        }
+        // Nearest at vertex 1; the tie at vertex 3 is the second distance: ratio 1, no vote.
+        assert_eq!((m.d1, m.d2, m.vertex), (1.0, 1.0, 1));
+        let mut m = Nearest2 { d1: f64::INFINITY, d2: f64::INFINITY, vertex: 0 };
+        for (i, d) in [4.0, 2.0, 3.0].into_iter().enumerate() {
+            m.push(d, i);
+        }
+        assert_eq!((m.d1, m.d2, m.vertex), (2.0, 3.0, 1));
     }
 
     #[test]

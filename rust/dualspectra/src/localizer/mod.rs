@@ -122,6 +122,13 @@ impl Localizer {
         stages::locate(self, partial, initial_regions, progress)
     }
 
+    /// The regions the optimisation starts from for `partial` (each start's well, carried to
+    /// the full mesh as [`Localization::region`] is), labelled as in
+    /// [`Localization::candidates`]: a diagnostic of the starts, without optimising.
+    pub fn start_regions(&self, partial: &TriMesh) -> Result<Vec<(String, Vec<bool>)>> {
+        stages::start_regions(self, partial)
+    }
+
     /// The options it was prepared with.
     pub fn options(&self) -> &Options {
         &self.options

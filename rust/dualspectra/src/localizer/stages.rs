@@ -144,6 +144,9 @@ struct Target {
     /// descriptor projections of the selection).
     spectra: Vec<Spectrum>,
     descriptors: Mat<f64>,
+    /// Its descriptors' correspondences on the optimisation mesh (the descriptor starts and
+    /// the vote share of the selection); `None` without descriptors.
+    matches: Option<starts::DescriptorMatches>,
     warnings: Vec<String>,
 }
 
@@ -186,9 +189,8 @@ pub(super) fn locate(loc: &Localizer, partial: &TriMesh, initial_regions: &[Vec<
     let t_region = clock.lap();
     progress.report(0.93, "selecting")?;
     let scored = loc.workers.install(|| score(loc, &target, candidates))?;
-    let floor = target.terms.iter().map(|t| t.target.len()).sum::<usize>() as f64 * selection::REGION_COST_FLOOR_RMS.powi(2);
     let scores: Vec<CandidateScore> = scored.iter().map(|c| c.score).collect();
-    let choice = selection::choose(&scores, floor).unwrap_or(0);
+    let choice = selection::choose(&scores).unwrap_or(0);
     let t_sel = clock.lap();
     progress.report(1.0, "done")?;
     let mut warnings = loc.warnings.clone();
@@ -204,6 +206,16 @@ pub(super) fn locate(loc: &Localizer, partial: &TriMesh, initial_regions: &[Vec<
         total: clock.total(),
     };
     Ok(result(loc, &target, scored, choice, timings, warnings))
+}
+
+/// The starts' wells ($w_0 < 0$) for `partial`, each carried to the full shape, with their
+/// labels: what the optimisation begins from (a diagnostic; [`Localizer::start_regions`]).
+pub(super) fn start_regions(loc: &Localizer, partial: &TriMesh) -> Result<Vec<(String, Vec<bool>)>> {
+    let target = loc.workers.install(|| target(loc, partial))?;
+    starts_for(loc, &target, &[])
+        .into_iter()
+        .map(|s| Ok((s.label, loc.to_full(&CoarseMask(s.w0.iter().map(|&w| w < 0.0).collect()))?.0)))
+        .collect()
 }
 
 /// Stage 1: the partial's largest component, scaled; its Dirichlet spectra and descriptors.
@@ -252,7 +264,8 @@ fn target(loc: &Localizer, partial: &TriMesh) -> Result<Target> {
         }
     }
     let descriptors = shot::shot_descriptors(shape.mesh(), shot::DEFAULT_RADIUS_FRACTION, shot::DEFAULT_MIN_NEIGHBORS)?;
-    Ok(Target { shape, area, terms, spectra, descriptors, warnings })
+    let matches = starts::descriptor_matches(&loc.coarse_descriptors, &descriptors);
+    Ok(Target { shape, area, terms, spectra, descriptors, matches, warnings })
 }
 
 /// Stage 2: the starts. Given regions first, then per centre an area-matched ball, its
@@ -274,8 +287,10 @@ fn starts_for(loc: &Localizer, target: &Target, initial_regions: &[Vec<bool>]) -
         out.push(bump);
     }
     out.extend(starts::plane_cut_starts_from_heights(&loc.plane_heights, mass, target.area));
-    let neighbors = crate::mesh::topology::vertex_neighbors(loc.coarse.mesh());
-    out.extend(starts::descriptor_starts(&loc.coarse_descriptors, &target.descriptors, &neighbors, mass, target.area));
+    if let Some(matches) = &target.matches {
+        let neighbors = crate::mesh::topology::vertex_neighbors(loc.coarse.mesh());
+        out.extend(starts::descriptor_starts(matches, &neighbors, mass, target.area));
+    }
     out
 }
 
@@ -400,6 +415,10 @@ fn score(loc: &Localizer, target: &Target, candidates: Vec<(Run, CoarseMask, Ful
         &heights,
         &coarse_regions,
     )?;
+    let shares = match &target.matches {
+        Some(m) => selection::vote_shares(&m.votes, &borrowed)?,
+        None => vec![f64::NAN; borrowed.len()],
+    };
     let partial_boundary = crate::region::boundary::region_boundary_length(target.shape.mesh(), None);
     let known = |x: f64| (!x.is_nan()).then_some(x);
     Ok(candidates
@@ -412,6 +431,7 @@ fn score(loc: &Localizer, target: &Target, candidates: Vec<(Run, CoarseMask, Ful
                 region_cost: known(spectral.region_cost[i]),
                 boundary_misfit: known(selection::boundary_misfit(length, partial_boundary)),
                 partial_fit: known(fits[i]),
+                vote_share: known(shares[i]),
             };
             let _ = coarse;
             Scored { run, full, score }
