@@ -1,10 +1,11 @@
 //! Choosing among the optimised starts (docs/algorithm.md, "Choosing among the starts").
 //!
-//! Each candidate region is scored four ways, all lower-is-better: its *region cost* (how
-//! well the region's own step potential reproduces the partial's spectra), its *descriptor
-//! score* (SHOT descriptors projected on eigenfunctions, the paper's rule), its *partial fit*
-//! (every local shape of the partial found in the region) and its *boundary misfit*. The
-//! region cost gates, the other three rank: [`choose`].
+//! Each candidate region is scored five ways: its *region cost* (how well the region's own
+//! step potential reproduces the partial's spectra), its *descriptor score* (SHOT descriptors
+//! projected on eigenfunctions, the paper's rule), its *partial fit* (every local shape of
+//! the partial found in the region), its *boundary misfit* (all lower-is-better) and its
+//! *vote share* (the partial's descriptor votes inside it, higher-is-better). The last four
+//! rank: [`choose`]; the region cost enters the [`confidence`].
 //!
 //! The descriptor score:
 //! $c_N = (\Psi^{\circ 2})^\top A_N D_N$ with $\Psi$ the first $k_d$ Dirichlet eigenfunctions of
@@ -318,9 +319,9 @@ impl CandidateScore {
 /// docs/benchmarks/options.md ("Vote share").
 pub fn choose(scores: &[CandidateScore]) -> Option<usize> {
     let costed: Vec<usize> = (0..scores.len()).filter(|&i| scores[i].region_cost.is_some()).collect();
-    let gated = if costed.is_empty() { (0..scores.len()).collect() } else { costed };
+    let eligible = if costed.is_empty() { (0..scores.len()).collect() } else { costed };
     let key = |i: usize| scores[i].ranking().unwrap_or(f64::INFINITY);
-    gated.into_iter().min_by(|&a, &b| key(a).total_cmp(&key(b)).then(a.cmp(&b)))
+    eligible.into_iter().min_by(|&a, &b| key(a).total_cmp(&key(b)).then(a.cmp(&b)))
 }
 
 /// How the starts agree with a choice. The margin is an input of [`confidence`] beside the
