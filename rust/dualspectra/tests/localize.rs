@@ -270,6 +270,27 @@ fn a_given_region_is_a_start() {
     assert!(matches!(err, Err(Error::InvalidArgument(_))), "{err:?}");
 }
 
+/// The starts' regions, before optimising: one per candidate, in the candidates' order, each a
+/// full-mesh mask near the partial's area; the descriptor-vote start finds an undeformed cut.
+#[test]
+fn start_regions_are_the_candidates_starts() {
+    let full = bumpy_sphere(3);
+    let (part, truth) = cut(&full, |p| p[2] > 0.1);
+    let o = Options { resolution: 300, ..quick() };
+    let localizer = Localizer::new(&full, &o).unwrap();
+    let starts = localizer.start_regions(&part).unwrap();
+    let found = localizer.locate(&part, &Progress::none()).unwrap();
+    let labels: Vec<&str> = starts.iter().map(|(l, _)| l.as_str()).collect();
+    assert_eq!(labels, found.candidates.iter().map(|c| c.label.as_str()).collect::<Vec<_>>());
+    let share = |r: &[bool]| r.iter().filter(|&&b| b).count() as f64 / r.len() as f64;
+    for (label, region) in &starts {
+        assert_eq!(region.len(), full.n_vertices());
+        assert!((share(region) - share(&truth)).abs() < 0.2, "{label}: {} of the vertices, truth {}", share(region), share(&truth));
+    }
+    let vote = &starts.iter().find(|(l, _)| l == "descriptor-vote").unwrap().1;
+    assert!(iou(vote, &truth) > 0.6, "descriptor-vote start IoU {}", iou(vote, &truth));
+}
+
 /// A prepared full shape locates several partials, concurrently, with the same results as
 /// one-call localizations; every candidate carries all four scores.
 #[test]

@@ -122,9 +122,10 @@ impl Localizer {
         stages::locate(self, partial, initial_regions, progress)
     }
 
-    /// The regions the optimisation starts from for `partial` (each start's well, carried to
-    /// the full mesh as [`Localization::region`] is), labelled as in
-    /// [`Localization::candidates`]: a diagnostic of the starts, without optimising.
+    /// The regions the optimisation starts from for `partial` (each start's partial-area
+    /// set of lowest initial potential, carried to the full mesh as [`Localization::region`]
+    /// is), labelled as in [`Localization::candidates`]: a diagnostic of the starts, without
+    /// optimising.
     pub fn start_regions(&self, partial: &TriMesh) -> Result<Vec<(String, Vec<bool>)>> {
         stages::start_regions(self, partial)
     }

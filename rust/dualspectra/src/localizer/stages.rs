@@ -208,13 +208,18 @@ pub(super) fn locate(loc: &Localizer, partial: &TriMesh, initial_regions: &[Vec<
     Ok(result(loc, &target, scored, choice, timings, warnings))
 }
 
-/// The starts' wells ($w_0 < 0$) for `partial`, each carried to the full shape, with their
-/// labels: what the optimisation begins from (a diagnostic; [`Localizer::start_regions`]).
+/// Each start's region for `partial`: the partial's area of lowest $w_0$ (a mask start's
+/// mask; the vertices around a bump's centre), carried to the full shape, with its label:
+/// what the optimisation begins from (a diagnostic; [`Localizer::start_regions`]).
 pub(super) fn start_regions(loc: &Localizer, partial: &TriMesh) -> Result<Vec<(String, Vec<bool>)>> {
     let target = loc.workers.install(|| target(loc, partial))?;
     starts_for(loc, &target, &[])
         .into_iter()
-        .map(|s| Ok((s.label, loc.to_full(&CoarseMask(s.w0.iter().map(|&w| w < 0.0).collect()))?.0)))
+        .map(|s| {
+            let low: Vec<f64> = s.w0.iter().map(|w| -w).collect();
+            let coarse = crate::geometry::area_matched_set(&low, loc.coarse.mass(), target.area);
+            Ok((s.label, loc.to_full(&CoarseMask(coarse))?.0))
+        })
         .collect()
 }
 
