@@ -3,7 +3,10 @@
 //! times per pair; prints each run's symmetry-aware IoU, the spread (max - min) per pair
 //! and the start each run chose. A research harness; numbers go to docs/benchmarks/.
 //!
-//! `cargo run --release --example research_jitter -- ROOT [PAIRS_PER_SET] [RUNS] [EPS] [both|partial|full]`
+//! `cargo run --release --example research_jitter -- ROOT [PAIRS_PER_SET] [RUNS] [EPS|f32] [both|partial|full]`
+//!
+//! `f32` instead of EPS rounds the coordinates to single precision (what a host such as
+//! Blender stores), then jitters run r > 1 by r * 1e-12 of the diagonal before the rounding.
 //!
 //! ROOT holds the dev sets (`$DUALSPECTRA_DATA`); pairs are spread evenly over each set.
 //! The last argument moves only one of the shapes (default both), to tell where the
@@ -23,12 +26,15 @@ fn unit_noise(seed: u64, i: u64) -> f64 {
     (z >> 11) as f64 / (1u64 << 52) as f64 - 1.0
 }
 
-fn jitter(mesh: &TriMesh, eps: f64, seed: u64) -> Result<TriMesh, dualspectra::Error> {
+fn jitter(mesh: &TriMesh, eps: f64, seed: u64, single: bool) -> Result<TriMesh, dualspectra::Error> {
     let h = eps * mesh.bbox_diagonal();
     let (mut v, f) = mesh.clone().into_parts();
     for (i, p) in v.iter_mut().enumerate() {
         for (d, c) in p.iter_mut().enumerate() {
             *c += h * unit_noise(seed, (3 * i + d) as u64);
+            if single {
+                *c = *c as f32 as f64;
+            }
         }
     }
     TriMesh::new(v, f).map_err(Into::into)
@@ -39,7 +45,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let root = std::path::PathBuf::from(args.get(1).ok_or("usage: research_jitter ROOT [PAIRS_PER_SET] [RUNS] [EPS]")?);
     let per_set: usize = args.get(2).map(|s| s.parse()).transpose()?.unwrap_or(2);
     let runs: u64 = args.get(3).map(|s| s.parse()).transpose()?.unwrap_or(5);
-    let eps: f64 = args.get(4).map(|s| s.parse()).transpose()?.unwrap_or(1e-9);
+    let single = args.get(4).is_some_and(|s| s == "f32");
+    let eps: f64 = if single { 0.0 } else { args.get(4).map(|s| s.parse()).transpose()?.unwrap_or(1e-9) };
     let moved = args.get(5).map_or("both", String::as_str);
     let (move_full, move_partial) = match moved {
         "both" => (true, true),
@@ -60,8 +67,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let mut first_kept: Option<Vec<u32>> = None;
             for run in 0..=runs {
                 // Run 0 is the input as read; runs 1.. are jittered.
-                let full = if run > 0 && move_full { jitter(&data.full, eps, 2 * run)? } else { data.full.clone() };
-                let partial = if run > 0 && move_partial { jitter(&data.partial, eps, 2 * run + 1)? } else { data.partial.clone() };
+                let full = if run > 0 && move_full { jitter(&data.full, if single { 1e-12 * (run - 1) as f64 } else { eps }, 2 * run, single)? } else { data.full.clone() };
+                let partial = if run > 0 && move_partial { jitter(&data.partial, if single { 1e-12 * (run - 1) as f64 } else { eps }, 2 * run + 1, single)? } else { data.partial.clone() };
                 let localizer = Localizer::new(&full, &options)?;
                 // The decimation's kept vertices, compared with the unmoved run's.
                 let kept = localizer.optimisation_vertex_origins().to_vec();

@@ -13,13 +13,14 @@
 //!
 //! Boundary vertices are locked (`SimplifyOptions::LockBorder`): the boundary of the full
 //! shape is kept vertex for vertex. meshoptimizer works on `f32` positions; it is given the
-//! input snapped to a grid of [`SNAP_CELLS`] cells per bounding-box diagonal, centred on the
-//! box's middle cell, so the collapse order (a long greedy chain: a full shape of 10^4
+//! input snapped to a grid of 4096 cells per bounding-box diagonal (finer ones where that
+//! opens a hole, [`SNAP_CELLS`]), centred on the box's middle cell, so the collapse order (a long greedy chain: a full shape of 10^4
 //! vertices goes to 10^3) does not hinge on the last bits of the coordinates: a 1e-9
 //! relative jitter moves a coordinate to another cell with probability ~1e-5, where
 //! unsnapped `f32` rounding changed in ~1% of the coordinates and with it the kept vertices
-//! of every run (docs/benchmarks/real-partials-2026-12-02-s20.md). The kept vertices keep
-//! their exact input positions.
+//! of every run (docs/benchmarks/real-partials-2026-12-02-s20.md). Single-precision input
+//! (a host's f32 positions) is still a larger move and can change the result. The kept
+//! vertices keep their exact input positions.
 //!
 //! meshoptimizer can create an edge shared by three faces; the vertices of such faces and
 //! their input one-rings are then locked and the simplification rerun. The output is checked by [`TriMesh::new`]:
@@ -64,15 +65,22 @@ pub fn decimate(mesh: &TriMesh, target_fraction: f64) -> Result<Decimated> {
             original_vertex: (0..n as u32).collect(),
         });
     }
-    let snapped = decimate_positions(mesh, &meshopt_positions(mesh, true), target_fraction);
-    // Snapping can make three collinear input vertices look like a triangle to meshoptimizer
-    // (flat synthetic meshes); their face is then dropped at f64 and leaves a hole. Such a
-    // result is replaced by the unsnapped one.
+    // Snapping can make three collinear vertices look like a triangle to meshoptimizer (flat
+    // synthetic meshes); its collapses may then leave a face that is degenerate at f64 and
+    // dropped: a hole. Such a result is replaced by one on a finer grid, and in the end by
+    // the unsnapped one. Where two vertices share a position (which meshoptimizer welds,
+    // snapped or not: FAUST's remeshed shapes have a few) holes can appear either way, and
+    // the first grid's result is kept.
     let input_boundary = super::topology::boundary_vertices(mesh).len();
-    match snapped {
-        Ok(d) if super::topology::boundary_vertices(&d.mesh).len() == input_boundary => Ok(d),
-        _ => decimate_positions(mesh, &meshopt_positions(mesh, false), target_fraction),
+    for cells in SNAP_CELLS {
+        let positions = meshopt_positions(mesh, Some(cells));
+        let welds = positions.len() - positions.iter().map(|p| p.map(f32::to_bits)).collect::<HashSet<_>>().len();
+        match decimate_positions(mesh, &positions, target_fraction) {
+            Ok(d) if welds > 0 || super::topology::boundary_vertices(&d.mesh).len() == input_boundary => return Ok(d),
+            _ => {}
+        }
     }
+    decimate_positions(mesh, &meshopt_positions(mesh, None), target_fraction)
 }
 
 /// [`decimate`] with the positions meshoptimizer sees.
@@ -130,19 +138,20 @@ fn decimate_positions(mesh: &TriMesh, positions: &[[f32; 3]], target_fraction: f
     })
 }
 
-/// Cells of the snapping grid per bounding-box diagonal (the cell is the power of two at or
-/// below diagonal / `SNAP_CELLS`). Typical edges of a shape decimated here (10^3-10^5
-/// vertices) are 10-200 cells long, so the collapse errors are barely changed.
-pub const SNAP_CELLS: f64 = 4096.0;
+/// Cells of the snapping grids per bounding-box diagonal, tried in order (the cell is the
+/// power of two at or below diagonal / cells). On the first grid, typical edges of a shape
+/// decimated here (10^3-10^5 vertices) are 10-200 cells long, so the collapse errors are
+/// barely changed; the finer grids are for meshes with nearly coincident vertices.
+pub const SNAP_CELLS: [f64; 3] = [4096.0, 65536.0, 1048576.0];
 
 /// The positions meshoptimizer sees, in `f32`, centred on the bounding box (translation
-/// invariance). With `snap`, each coordinate is rounded to a multiple of the grid cell
-/// h = 2^floor(log2(diagonal / [`SNAP_CELLS`])) and the centre to a whole cell (exact in
-/// `f32`: every value is below 2^13 cells): rounding coordinates and centre separately to
+/// invariance). With `snap_cells`, each coordinate is rounded to a multiple of the grid cell
+/// h = 2^floor(log2(diagonal / snap_cells)) and the centre to a whole cell (exact in
+/// `f32` for up to 2^24 cells): rounding coordinates and centre separately to
 /// whole cells, with h a power of two, makes the result move only where a coordinate, the
 /// centre or the diagonal crosses a cell or power-of-two boundary, not with every change
 /// of the last bits.
-fn meshopt_positions(mesh: &TriMesh, snap: bool) -> Vec<[f32; 3]> {
+fn meshopt_positions(mesh: &TriMesh, snap_cells: Option<f64>) -> Vec<[f32; 3]> {
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
     for p in mesh.vertices() {
@@ -152,16 +161,16 @@ fn meshopt_positions(mesh: &TriMesh, snap: bool) -> Vec<[f32; 3]> {
         }
     }
     let centre: [f64; 3] = std::array::from_fn(|d| (lo[d] + hi[d]) / 2.0);
-    if !snap {
+    let Some(cells) = snap_cells else {
         return mesh
             .vertices()
             .iter()
             .map(|p| std::array::from_fn(|d| (p[d] - centre[d]) as f32))
             .collect();
-    }
+    };
     let diagonal = ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2) + (hi[2] - lo[2]).powi(2)).sqrt();
     // A mesh has no degenerate bounding box (TriMesh::new rejects zero-area faces).
-    let cell = (diagonal / SNAP_CELLS).log2().floor().exp2();
+    let cell = (diagonal / cells).log2().floor().exp2();
     let centre_cell: [f64; 3] = std::array::from_fn(|d| (centre[d] / cell).round());
     mesh.vertices()
         .iter()
@@ -376,7 +385,7 @@ mod tests {
             assert_eq!(d.original_vertex, base.original_vertex, "seed {seed}");
             assert_eq!(d.mesh.faces(), base.mesh.faces(), "seed {seed}");
             // Without the snapping the same jitter changes which vertices are kept.
-            let raw = |m: &TriMesh| decimate_positions(m, &meshopt_positions(m, false), 0.2).unwrap();
+            let raw = |m: &TriMesh| decimate_positions(m, &meshopt_positions(m, None), 0.2).unwrap();
             unsnapped_moved |= raw(&moved).original_vertex != raw(&bumpy_jittered(0.0, 0)).original_vertex;
         }
         assert!(unsnapped_moved, "the jitter never reached meshoptimizer's f32 positions");
