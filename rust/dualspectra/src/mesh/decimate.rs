@@ -12,10 +12,11 @@
 //! index in the input, and a value transferred back is exact at kept vertices.
 //!
 //! Boundary vertices are locked (`SimplifyOptions::LockBorder`): the boundary of the full
-//! shape is kept vertex for vertex. meshoptimizer works on `f32` positions; it is given the
-//! input snapped to a grid of 4096 cells per bounding-box diagonal (finer ones where that
-//! opens a hole, [`SNAP_CELLS`]), centred on the box's middle cell, so the collapse order (a long greedy chain: a full shape of 10^4
-//! vertices goes to 10^3) does not hinge on the last bits of the coordinates: a 1e-9
+//! shape is kept vertex for vertex. meshoptimizer works on `f32` positions; it is given each
+//! coordinate's offset from the bounding box's lowest corner rounded to a grid of 4096 cells
+//! per diagonal (finer ones where that opens a hole, [`SNAP_CELLS`]), so the collapse order
+//! (a long greedy chain: a full shape of 10^4 vertices goes to 10^3) does not hinge on the
+//! last bits of the coordinates: a 1e-9
 //! relative jitter moves a coordinate to another cell with probability ~1e-5, where
 //! unsnapped `f32` rounding changed in ~1% of the coordinates and with it the kept vertices
 //! of every run (docs/benchmarks/real-partials-2026-12-02-s20.md). Single-precision input
@@ -141,7 +142,7 @@ fn decimate_positions(mesh: &TriMesh, positions: &[[f32; 3]], target_fraction: f
 /// Cells of the snapping grids per bounding-box diagonal, tried in order (the cell is the
 /// power of two at or below diagonal / cells). On the first grid, typical edges of a shape
 /// decimated here (10^3-10^5 vertices) are 10-200 cells long, so the collapse errors are
-/// barely changed; the finer grids are for meshes with nearly coincident vertices.
+/// barely changed; the finer grids are for the meshes where the first opens a hole.
 pub const SNAP_CELLS: [f64; 3] = [4096.0, 65536.0, 1048576.0];
 
 /// The positions meshoptimizer sees, in `f32`. Unsnapped (`None`): centred on the bounding
