@@ -6,7 +6,7 @@
 //! `cargo run --release --example research_jitter -- ROOT [PAIRS_PER_SET] [RUNS] [EPS|f32] [both|partial|full]`
 //!
 //! `f32` instead of EPS rounds the coordinates to single precision (what a host such as
-//! Blender stores), then jitters run r > 1 by r * 1e-12 of the diagonal before the rounding.
+//! Blender stores) in every moved run, run r first moved by (r - 1) * 1e-12 of the diagonal.
 //!
 //! ROOT holds the dev sets (`$DUALSPECTRA_DATA`); pairs are spread evenly over each set.
 //! The last argument moves only one of the shapes (default both), to tell where the
@@ -42,7 +42,7 @@ fn jitter(mesh: &TriMesh, eps: f64, seed: u64, single: bool) -> Result<TriMesh, 
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
-    let root = std::path::PathBuf::from(args.get(1).ok_or("usage: research_jitter ROOT [PAIRS_PER_SET] [RUNS] [EPS]")?);
+    let root = std::path::PathBuf::from(args.get(1).ok_or("usage: research_jitter ROOT [PAIRS_PER_SET] [RUNS] [EPS|f32] [both|partial|full]")?);
     let per_set: usize = args.get(2).map(|s| s.parse()).transpose()?.unwrap_or(2);
     let runs: u64 = args.get(3).map(|s| s.parse()).transpose()?.unwrap_or(5);
     let single = args.get(4).is_some_and(|s| s == "f32");
