@@ -84,6 +84,7 @@ def test_localize_finds_the_cut(pair: Pair) -> None:
     chosen = r.candidates[r.selected_start]
     assert np.array_equal(chosen.region, r.region) and chosen.cost == r.cost
     assert isinstance(r.confidence, float) and 0.0 <= r.confidence <= 1.0, r.confidence
+    assert r.optimisation_vertices == len(v), "resolution=0: optimised on the full mesh itself"
     assert all(c.region.shape == (len(v),) and c.evaluations >= 1 for c in r.candidates)
     assert set(r.timings) == {"preparation", "preprocessing", "starts", "optimisation", "region", "selection", "total"}
     assert r.timings["preparation"] > 0 and r.timings["total"] >= r.timings["optimisation"]

@@ -90,6 +90,10 @@ pub struct Localization {
     /// `dualspectra::search::similarity_score_of`).
     #[pyo3(get)]
     similarity_score: f64,
+    /// Vertices of the optimisation mesh used (about twice the `resolution` option for a
+    /// partial with holes).
+    #[pyo3(get)]
+    optimisation_vertices: usize,
     #[pyo3(get)]
     selected_start: usize,
     #[pyo3(get)]
@@ -217,6 +221,7 @@ impl Localization {
             cost: r.cost,
             confidence: r.confidence,
             similarity_score,
+            optimisation_vertices: r.optimisation_vertices,
             selected_start: r.selected_start,
             n_starts: r.n_starts,
             candidates,

@@ -341,3 +341,39 @@ fn results_do_not_depend_on_the_thread_count() {
         assert_eq!(a.cost.to_bits(), b.cost.to_bits(), "{}: {} against {}", a.label, a.cost, b.cost);
     }
 }
+
+/// A partial with holes is optimised on the finer mesh ([`dualspectra::localizer::FINE_RESOLUTION_FACTOR`]
+/// x `resolution`), a clean cut on the prepared one; the finer mesh is built on first use, so
+/// a saved and loaded localizer (which does not store it) gives the same result bit for bit.
+#[test]
+fn a_partial_with_holes_is_optimised_on_the_finer_mesh() {
+    use dualspectra::localizer::FINE_RESOLUTION_FACTOR;
+    let full = bumpy_sphere(4);
+    let unit = |p: [f64; 3]| {
+        let r = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+        p.map(|x| x / r)
+    };
+    let angle = |p: [f64; 3], c: [f64; 3]| {
+        let (u, r) = (unit(p), (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt());
+        ((u[0] * c[0] + u[1] * c[1] + u[2] * c[2]) / r).clamp(-1.0, 1.0).acos()
+    };
+    let (clean, _) = cut(&full, |p| p[2] > 0.1);
+    // Two holes of angular radius 0.25 in the cap: rims of ~1.5 each against sqrt(area) ~2.4.
+    let (holed, truth) = cut(&full, |p| p[2] > 0.1 && angle(p, [0.6, 0.0, 0.8]) > 0.25 && angle(p, [-0.5, 0.5, 0.7]) > 0.25);
+    let o = Options { resolution: 300, ..quick() };
+    let localizer = Localizer::new(&full, &o).unwrap();
+    let coarse = localizer.optimisation_vertices();
+    let found_clean = localizer.locate(&clean, &Progress::none()).unwrap();
+    assert_eq!(found_clean.optimisation_vertices, coarse);
+    let found = localizer.locate(&holed, &Progress::none()).unwrap();
+    let fine = found.optimisation_vertices;
+    let target = (FINE_RESOLUTION_FACTOR * 300) as f64;
+    assert!((fine as f64 - target).abs() < 0.1 * target, "{fine} optimisation vertices for {target}");
+    assert_eq!(localizer.optimisation_vertices(), coarse, "the prepared mesh is unchanged");
+    assert!(iou(&found.region, &truth) > 0.7, "IoU {}", iou(&found.region, &truth));
+    let loaded = Localizer::from_bytes(&localizer.to_bytes()).unwrap();
+    let again = loaded.locate(&holed, &Progress::none()).unwrap();
+    assert_eq!(again.region, found.region);
+    assert_eq!(again.cost.to_bits(), found.cost.to_bits());
+    assert_eq!(again.optimisation_vertices, fine);
+}

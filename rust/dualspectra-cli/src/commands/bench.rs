@@ -75,6 +75,8 @@ pub struct PairResult {
     pub cost: f64,
     /// The localizer's confidence in the region (0 for a failed pair).
     pub confidence: f64,
+    /// Vertices of the optimisation mesh used (0 for a failed pair).
+    pub optimisation_vertices: usize,
     pub seconds: f64,
     /// Seconds per stage of the localizer (zero for a failed pair).
     pub timings: Timings,
@@ -209,6 +211,7 @@ fn run_pair(
         area_iou,
         cost: loc.cost,
         confidence: loc.confidence,
+        optimisation_vertices: loc.optimisation_vertices,
         seconds,
         timings: Timings { preparation: seconds - loc.timings.total, ..loc.timings.clone() },
         error: None,
@@ -370,6 +373,7 @@ fn run_set(dataset: &Dataset, pairs: &[Pair], options: &Options, quiet: bool) ->
             area_iou: 0.0,
             cost: f64::NAN,
             confidence: 0.0,
+            optimisation_vertices: 0,
             seconds: 0.0,
             timings: Timings::default(),
             error: Some(e.to_string().split_whitespace().collect::<Vec<_>>().join(" ")),
@@ -580,6 +584,7 @@ mod tests {
             area_iou: 1.0,
             cost: 0.0,
             confidence: 1.0,
+            optimisation_vertices: 1000,
             seconds: 3.0,
             timings: Timings { optimisation: 2.5, total: 3.0, ..Timings::default() },
             error: None,

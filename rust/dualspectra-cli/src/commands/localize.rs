@@ -4,7 +4,7 @@
 //! Finds the region of `FULL` that `PARTIAL` (a deformed, cut copy) corresponds to, with
 //! `dualspectra::localize` (docs/algorithm.md, whole pipeline). Writes the result as JSON
 //! (`region`: 0-based vertex indices of FULL; `confidence`; `cost`; `seconds`; `mode`;
-//! `n_starts`; `timings`; the eigenvalues at the optimum and the partial's target spectra) to `OUT`
+//! `optimisation_vertices`; `n_starts`; `timings`; the eigenvalues at the optimum and the partial's target spectra) to `OUT`
 //! with `--json`, else to standard output; `--ply` writes FULL with the region coloured
 //! (vertex colours). A progress bar runs on standard error.
 
@@ -144,6 +144,8 @@ pub struct Output<'a> {
     pub options: &'a Options,
     pub n_vertices_full: usize,
     pub n_vertices_partial: usize,
+    /// Vertices of the optimisation mesh used ([`Localization::optimisation_vertices`]).
+    pub optimisation_vertices: usize,
     pub n_starts: usize,
     pub selected_start: usize,
     pub timings: &'a Timings,
@@ -170,6 +172,7 @@ impl<'a> Output<'a> {
             options,
             n_vertices_full: full.n_vertices(),
             n_vertices_partial: partial.n_vertices(),
+            optimisation_vertices: loc.optimisation_vertices,
             n_starts: loc.n_starts,
             selected_start: loc.selected_start,
             timings: &loc.timings,

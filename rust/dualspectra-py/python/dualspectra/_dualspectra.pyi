@@ -119,6 +119,10 @@ class Localization:
         Dimensionless, computed at unit full-shape area: it compares across full shapes of
         different size and meshing (:func:`search` ranks by it)."""
     @property
+    def optimisation_vertices(self) -> int:
+        """Vertices of the optimisation mesh the potential was optimised on: about
+        ``resolution``, or twice that for a partial with holes."""
+    @property
     def selected_start(self) -> int:
         """Index of the selected start in ``candidates``."""
     @property

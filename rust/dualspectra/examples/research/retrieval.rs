@@ -309,6 +309,7 @@ fn localization(p: &PairLog) -> Localization {
         target_si: p.target_si.clone(),
         cost: p.cost.unwrap_or(f64::NAN),
         confidence: p.confidence,
+        optimisation_vertices: 0,
         selected_start: p.selected,
         n_starts: p.candidates.len(),
         timings: Default::default(),

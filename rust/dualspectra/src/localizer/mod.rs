@@ -19,12 +19,14 @@ mod stages;
 pub use persist::HostNumbering;
 pub use options::{option_spec, options_schema_json, Mode, OptionKind, OptionSpec, Options, MIN_RESOLUTION, OPTIONS};
 pub use result::{Candidate, Localization, Timings};
+pub use stages::{FINE_RESOLUTION_FACTOR, HOLE_RIM_FRACTION};
 
 use crate::error::{Error, Result};
 use crate::mesh::TriMesh;
 use crate::progress::Progress;
 use crate::shape::Shape;
 use faer::Mat;
+use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 /// A full shape prepared for locating partials on it.
@@ -39,7 +41,28 @@ pub struct Localizer {
     full: TriMesh,
     /// Vertex neighbours of the full shape (the closing of regions).
     full_neighbors: Vec<Vec<u32>>,
-    /// The optimisation mesh (the full shape decimated to about `resolution` vertices).
+    /// The optimisation mesh (the full shape decimated to about `resolution` vertices) and
+    /// what the starts and the choice read from it.
+    level: Arc<OptimisationMesh>,
+    /// The finer optimisation mesh for partials with holes ([`FINE_RESOLUTION_FACTOR`] x
+    /// `resolution` vertices) and its preparation's notes, built on first use (and not saved:
+    /// a loaded localizer builds the same one from the stored full shape).
+    fine_level: Mutex<Option<(Arc<OptimisationMesh>, Vec<String>)>>,
+    workers: rayon::ThreadPool,
+    /// Notes shown with every result: the preparation's, and a loaded file's.
+    warnings: Vec<String>,
+    /// The preparation's notes (what [`Localizer::save`] keeps).
+    prepared_warnings: Vec<String>,
+    /// The caller's numbering of the full mesh's vertices ([`Localizer::set_host_numbering`]).
+    host: Option<HostNumbering>,
+    preparation_seconds: f64,
+}
+
+/// An optimisation mesh: a decimation of the full shape, its cells on the full shape, and
+/// the data the starts and the choice read from it.
+pub(crate) struct OptimisationMesh {
+    /// The decimated full shape, with the scale-invariant factor transferred from the full
+    /// resolution.
     coarse: Shape,
     /// Full-shape vertex each optimisation vertex came from.
     coarse_to_full: Vec<u32>,
@@ -53,21 +76,13 @@ pub struct Localizer {
     centre_distances: Vec<Vec<f64>>,
     /// Heights of the optimisation vertices along each plane-cut direction.
     plane_heights: Vec<Vec<f64>>,
-    workers: rayon::ThreadPool,
-    /// Notes shown with every result: the preparation's, and a loaded file's.
-    warnings: Vec<String>,
-    /// The preparation's notes (what [`Localizer::save`] keeps).
-    prepared_warnings: Vec<String>,
-    /// The caller's numbering of the full mesh's vertices ([`Localizer::set_host_numbering`]).
-    host: Option<HostNumbering>,
-    preparation_seconds: f64,
 }
 
 impl std::fmt::Debug for Localizer {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Localizer")
             .field("n_vertices", &self.n_vertices)
-            .field("optimisation_vertices", &self.coarse.n_vertices())
+            .field("optimisation_vertices", &self.level.coarse.n_vertices())
             .field("options", &self.options)
             .finish()
     }
@@ -142,13 +157,13 @@ impl Localizer {
 
     /// Vertices of the optimisation mesh.
     pub fn optimisation_vertices(&self) -> usize {
-        self.coarse.n_vertices()
+        self.level.coarse.n_vertices()
     }
 
     /// For each optimisation vertex, the full-mesh vertex it is (the decimation keeps a
     /// subset of the full mesh's vertices; increasing).
     pub fn optimisation_vertex_origins(&self) -> &[u32] {
-        &self.coarse_to_full
+        &self.level.coarse_to_full
     }
 
     /// Notes on the preparation (e.g. a decimation that failed), repeated in every result.

@@ -96,11 +96,11 @@ impl Localizer {
         p.f64(self.scale);
         p.u64(self.n_vertices as u64);
         p.mesh(&self.full);
-        p.mesh(self.coarse.mesh());
-        p.u32s(&self.coarse_to_full);
-        p.u32s(&self.cell_of_full);
-        p.f64s(self.coarse.scale_invariant_factor());
-        let d = &self.coarse_descriptors;
+        p.mesh(self.level.coarse.mesh());
+        p.u32s(&self.level.coarse_to_full);
+        p.u32s(&self.level.cell_of_full);
+        p.f64s(self.level.coarse.scale_invariant_factor());
+        let d = &self.level.coarse_descriptors;
         p.u64(d.nrows() as u64);
         p.u64(d.ncols() as u64);
         for i in 0..d.nrows() {
@@ -108,12 +108,12 @@ impl Localizer {
                 p.f64(d[(i, j)]);
             }
         }
-        p.u64(self.centres.len() as u64);
-        self.centres.iter().for_each(|&c| p.u64(c as u64));
-        p.u64(self.centre_distances.len() as u64);
-        self.centre_distances.iter().for_each(|v| p.f64s(v));
-        p.u64(self.plane_heights.len() as u64);
-        self.plane_heights.iter().for_each(|v| p.f64s(v));
+        p.u64(self.level.centres.len() as u64);
+        self.level.centres.iter().for_each(|&c| p.u64(c as u64));
+        p.u64(self.level.centre_distances.len() as u64);
+        self.level.centre_distances.iter().for_each(|v| p.f64s(v));
+        p.u64(self.level.plane_heights.len() as u64);
+        self.level.plane_heights.iter().for_each(|v| p.f64s(v));
         p.u64(self.prepared_warnings.len() as u64);
         self.prepared_warnings.iter().for_each(|w| p.string(w));
         match &self.host {
@@ -321,13 +321,16 @@ fn read_payload(r: &mut Reader<'_>) -> std::result::Result<Localizer, String> {
         scale,
         full,
         full_neighbors,
-        coarse,
-        coarse_to_full,
-        cell_of_full,
-        coarse_descriptors,
-        centres,
-        centre_distances,
-        plane_heights,
+        level: std::sync::Arc::new(super::OptimisationMesh {
+            coarse,
+            coarse_to_full,
+            cell_of_full,
+            coarse_descriptors,
+            centres,
+            centre_distances,
+            plane_heights,
+        }),
+        fine_level: Default::default(),
         workers,
         warnings: warnings.clone(),
         prepared_warnings: warnings,

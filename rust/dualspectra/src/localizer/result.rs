@@ -59,6 +59,10 @@ pub struct Localization {
     /// the true region with IoU >= 0.5 ([`crate::selection::confidence`]; calibration in
     /// docs/benchmarks/confidence/). Reject matches below a threshold of your choice.
     pub confidence: f64,
+    /// Vertices of the optimisation mesh the potential was optimised on (the finer one for a
+    /// partial with holes, [`crate::localizer::FINE_RESOLUTION_FACTOR`]).
+    #[serde(default)]
+    pub optimisation_vertices: usize,
     /// Index of the selected start in `candidates`, and the number of starts run.
     pub selected_start: usize,
     pub n_starts: usize,

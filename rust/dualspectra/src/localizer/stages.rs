@@ -2,7 +2,7 @@
 //! [`Localizer`]), then for each partial: target, starts, runs, candidates, scores, choice,
 //! result. [`locate`] reads as that list.
 
-use super::{Candidate, Localization, Localizer, Options, Timings};
+use super::{Candidate, Localization, Localizer, OptimisationMesh, Options, Timings};
 use crate::alignment::cost::{potential_from_w, AlignmentCost, SpectrumTerm};
 use crate::alignment::starts::{self, Start};
 use crate::alignment::trust_region::{minimize, HessianOperator, Point, TrustRegionParams};
@@ -16,6 +16,7 @@ use crate::shape::{Metric, Shape};
 use crate::spectra::Spectrum;
 use faer::Mat;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 /// Step height of the relaxed potential: $v \in [0, 2c]$ with $2c = 50\,\mu_k$
@@ -29,6 +30,22 @@ pub const STEP_HEIGHT_FACTOR: f64 = 50.0;
 /// (docs/benchmarks/real-partials-2026-12-01.md); every SHREC'16 partial is below it.
 pub const MAX_PARTIAL_VERTICES: usize = 12_000;
 
+/// Partials with holes are optimised on a mesh this many times finer than `resolution`
+/// (docs/benchmarks/options.md, "Finer mesh for partials with holes").
+pub const FINE_RESOLUTION_FACTOR: usize = 2;
+
+/// A partial has holes when the rims of its boundary curves other than the longest add up
+/// to at least this fraction of $\sqrt{A_N}$ (docs/benchmarks/options.md, "Finer mesh for
+/// partials with holes").
+pub const HOLE_RIM_FRACTION: f64 = 0.5;
+
+/// Whether `partial` has holes (other boundary curves than its outer rim, long enough):
+/// holes of a few coarse edges' size are what the default optimisation mesh cannot draw.
+fn has_holes(partial: &TriMesh) -> bool {
+    let rims: f64 = crate::mesh::topology::boundary_curve_lengths(partial).iter().skip(1).sum();
+    rims >= HOLE_RIM_FRACTION * partial.area().sqrt()
+}
+
 /// A vertex mask on the optimisation (coarse) mesh.
 #[derive(Debug, Clone, PartialEq)]
 struct CoarseMask(Vec<bool>);
@@ -37,16 +54,38 @@ struct CoarseMask(Vec<bool>);
 #[derive(Debug, Clone, PartialEq)]
 struct FullMask(Vec<bool>);
 
-impl Localizer {
+impl OptimisationMesh {
     /// A full-shape mask read at the vertex each optimisation vertex came from.
     fn to_coarse(&self, mask: &[bool]) -> CoarseMask {
         CoarseMask(self.coarse_to_full.iter().map(|&j| mask[j as usize]).collect())
     }
+}
+
+impl Localizer {
+    /// The optimisation mesh for `partial` and notes on it: the finer one for a partial with
+    /// holes (built on first use), else the prepared one.
+    fn level_for(&self, partial: &TriMesh, progress: &Progress) -> Result<(Arc<OptimisationMesh>, Vec<String>)> {
+        let fine_resolution = self.options.resolution.saturating_mul(FINE_RESOLUTION_FACTOR);
+        if self.options.resolution == 0 || self.level.coarse.n_vertices() >= self.full.n_vertices() || !has_holes(partial) {
+            return Ok((self.level.clone(), Vec::new()));
+        }
+        let mut fine = self.fine_level.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        if fine.is_none() {
+            progress.report(0.0, "preparing the finer optimisation mesh")?;
+            let mut notes = Vec::new();
+            let level = self
+                .workers
+                .install(|| prepare_level(&self.full, fine_resolution, &self.options, &mut notes, &Progress::none().with_cancel_flag(progress.cancel_flag())))?;
+            *fine = Some((Arc::new(level), notes));
+        }
+        let (level, notes) = fine.as_ref().expect("set above");
+        Ok((level.clone(), notes.clone()))
+    }
 
     /// A coarse mask spread over each optimisation vertex's cell on the full shape, then
     /// closed ([`crate::region::CLOSING_RINGS`] rings).
-    fn to_full(&self, mask: &CoarseMask) -> Result<FullMask> {
-        let spread: Vec<bool> = self.cell_of_full.iter().map(|&j| mask.0[j as usize]).collect();
+    fn to_full(&self, level: &OptimisationMesh, mask: &CoarseMask) -> Result<FullMask> {
+        let spread: Vec<bool> = level.cell_of_full.iter().map(|&j| mask.0[j as usize]).collect();
         Ok(FullMask(crate::region::closing::close(&spread, &self.full_neighbors, crate::region::CLOSING_RINGS)?))
     }
 }
@@ -58,9 +97,38 @@ pub(super) fn prepare(full: &TriMesh, options: &Options, progress: &Progress) ->
     let mut warnings = Vec::new();
     let scale = 1.0 / full.area().sqrt();
     let full_n = full.map_positions(|p| p.map(|c| c * scale))?;
-    let decimated = if options.resolution > 0 && options.resolution < full_n.n_vertices() {
-        let ratio = options.resolution as f64 / full_n.n_vertices() as f64;
-        match crate::mesh::decimate::decimate(&full_n, ratio) {
+    let level = prepare_level(&full_n, options.resolution, options, &mut warnings, &progress.sub(0.0, 0.95))?;
+    let full_neighbors = crate::mesh::topology::vertex_neighbors(&full_n);
+    progress.report(1.0, "prepared")?;
+    Ok(Localizer {
+        options: options.clone(),
+        n_vertices: full.n_vertices(),
+        scale,
+        full: full_n,
+        full_neighbors,
+        level: Arc::new(level),
+        fine_level: Mutex::new(None),
+        workers: rayon::ThreadPoolBuilder::new().num_threads(1).build().map_err(|e| Error::Numerical(e.to_string()))?,
+        prepared_warnings: warnings.clone(),
+        warnings,
+        host: None,
+        preparation_seconds: 0.0,
+    })
+}
+
+/// The optimisation mesh of about `resolution` vertices (0 or more than the full shape's:
+/// the full shape itself) and its start data. A failed decimation falls back to the full
+/// shape with a warning.
+fn prepare_level(
+    full_n: &TriMesh,
+    resolution: usize,
+    options: &Options,
+    warnings: &mut Vec<String>,
+    progress: &Progress,
+) -> Result<OptimisationMesh> {
+    let decimated = if resolution > 0 && resolution < full_n.n_vertices() {
+        let ratio = resolution as f64 / full_n.n_vertices() as f64;
+        match crate::mesh::decimate::decimate(full_n, ratio) {
             Ok(d) => Some((d.mesh, d.original_vertex)),
             Err(e) => {
                 warnings.push(format!("decimation failed ({e}); optimising on the full-resolution shape"));
@@ -76,7 +144,7 @@ pub(super) fn prepare(full: &TriMesh, options: &Options, progress: &Progress) ->
     });
     progress.check()?;
     let cell_of_full = crate::mesh::nearest::nearest_vertices(coarse_mesh.vertices(), full_n.vertices())?;
-    let coarse = coarse_shape(coarse_mesh, &full_n, &coarse_to_full, &cell_of_full, options.alpha)?;
+    let coarse = coarse_shape(coarse_mesh, full_n, &coarse_to_full, &cell_of_full, options.alpha)?;
     // Warm the caches every locate reads (operators, both masses, the symbolic analysis).
     coarse.dirichlet_symbolic()?;
     coarse.metric_mass(Metric::ScaleInvariant);
@@ -85,7 +153,7 @@ pub(super) fn prepare(full: &TriMesh, options: &Options, progress: &Progress) ->
     let coarse_descriptors = if coarse.n_vertices() < full_n.n_vertices() {
         // The optimisation vertices described with their support at the data's resolution,
         // as the partial's are.
-        shot::shot_keypoint_descriptors(&full_n, &coarse_to_full, radius, min_nb)?
+        shot::shot_keypoint_descriptors(full_n, &coarse_to_full, radius, min_nb)?
     } else {
         shot::shot_descriptors(coarse.mesh(), radius, min_nb)?
     };
@@ -94,27 +162,7 @@ pub(super) fn prepare(full: &TriMesh, options: &Options, progress: &Progress) ->
     let centres = starts::farthest_point_samples(points, options.centers, options.seed);
     let centre_distances = starts::centre_distances(coarse.mesh(), &centres);
     let plane_heights = starts::plane_heights(points, coarse.mass(), options.plane_cuts);
-    let full_neighbors = crate::mesh::topology::vertex_neighbors(&full_n);
-    progress.report(1.0, "prepared")?;
-    Ok(Localizer {
-        options: options.clone(),
-        n_vertices: full.n_vertices(),
-        scale,
-        full: full_n,
-        full_neighbors,
-        coarse,
-        coarse_to_full,
-        cell_of_full,
-        coarse_descriptors,
-        centres,
-        centre_distances,
-        plane_heights,
-        workers: rayon::ThreadPoolBuilder::new().num_threads(1).build().map_err(|e| Error::Numerical(e.to_string()))?,
-        prepared_warnings: warnings.clone(),
-        warnings,
-        host: None,
-        preparation_seconds: 0.0,
-    })
+    Ok(OptimisationMesh { coarse, coarse_to_full, cell_of_full, coarse_descriptors, centres, centre_distances, plane_heights })
 }
 
 /// The optimisation mesh as a [`Shape`]. When it is a decimation of `full`, its
@@ -174,26 +222,29 @@ struct Scored {
 pub(super) fn locate(loc: &Localizer, partial: &TriMesh, initial_regions: &[Vec<bool>], progress: &Progress) -> Result<Localization> {
     let clock = Clock::start();
     progress.report(0.0, "preprocessing")?;
-    let target = loc.workers.install(|| target(loc, partial))?;
+    let mut target = loc.workers.install(|| target(loc, partial))?;
+    let (level, level_notes) = loc.level_for(target.shape.mesh(), progress)?;
+    target.matches = starts::descriptor_matches(&level.coarse_descriptors, &target.descriptors);
     let t_pre = clock.lap();
     progress.report(0.05, "starts")?;
-    let starts = starts_for(loc, &target, initial_regions);
+    let starts = starts_for(&level, &target, initial_regions);
     if starts.is_empty() {
         return Err(Error::InvalidArgument("no starts (centers = 0 and plane_cuts = 0, no initial region, and no descriptor start)".into()));
     }
     let t_starts = clock.lap();
-    let (runs, failure) = optimise(loc, &target, &starts, &progress.sub(0.05, 0.9))?;
+    let (runs, failure) = optimise(loc, &level, &target, &starts, &progress.sub(0.05, 0.9))?;
     let t_opt = clock.lap();
     progress.report(0.9, "regions")?;
-    let candidates = regions(loc, &target, runs)?;
+    let candidates = regions(loc, &level, &target, runs)?;
     let t_region = clock.lap();
     progress.report(0.93, "selecting")?;
-    let scored = loc.workers.install(|| score(loc, &target, candidates))?;
+    let scored = loc.workers.install(|| score(loc, &level, &target, candidates))?;
     let scores: Vec<CandidateScore> = scored.iter().map(|c| c.score).collect();
     let choice = selection::choose(&scores).unwrap_or(0);
     let t_sel = clock.lap();
     progress.report(1.0, "done")?;
     let mut warnings = loc.warnings.clone();
+    warnings.extend(level_notes);
     warnings.extend(target.warnings.iter().cloned());
     warnings.extend(failure);
     let timings = Timings {
@@ -205,25 +256,28 @@ pub(super) fn locate(loc: &Localizer, partial: &TriMesh, initial_regions: &[Vec<
         selection: t_sel,
         total: clock.total(),
     };
-    Ok(result(loc, &target, scored, choice, timings, warnings))
+    Ok(result(loc, &level, &target, scored, choice, timings, warnings))
 }
 
 /// Each start's region for `partial`: the partial's area of lowest $w_0$ (a mask start's
 /// mask; the vertices around a bump's centre), carried to the full shape, with its label:
 /// what the optimisation begins from (a diagnostic; [`Localizer::start_regions`]).
 pub(super) fn start_regions(loc: &Localizer, partial: &TriMesh) -> Result<Vec<(String, Vec<bool>)>> {
-    let target = loc.workers.install(|| target(loc, partial))?;
-    starts_for(loc, &target, &[])
+    let mut target = loc.workers.install(|| target(loc, partial))?;
+    let (level, _) = loc.level_for(target.shape.mesh(), &Progress::none())?;
+    target.matches = starts::descriptor_matches(&level.coarse_descriptors, &target.descriptors);
+    starts_for(&level, &target, &[])
         .into_iter()
         .map(|s| {
             let low: Vec<f64> = s.w0.iter().map(|w| -w).collect();
-            let coarse = crate::geometry::area_matched_set(&low, loc.coarse.mass(), target.area);
-            Ok((s.label, loc.to_full(&CoarseMask(coarse))?.0))
+            let coarse = crate::geometry::area_matched_set(&low, level.coarse.mass(), target.area);
+            Ok((s.label, loc.to_full(&level, &CoarseMask(coarse))?.0))
         })
         .collect()
 }
 
-/// Stage 1: the partial's largest component, scaled; its Dirichlet spectra and descriptors.
+/// Stage 1: the partial's largest component, scaled; its Dirichlet spectra and descriptors
+/// (their matches on the optimisation mesh are left to the caller, which chooses the mesh).
 fn target(loc: &Localizer, partial: &TriMesh) -> Result<Target> {
     let options = &loc.options;
     let mut warnings = Vec::new();
@@ -269,31 +323,31 @@ fn target(loc: &Localizer, partial: &TriMesh) -> Result<Target> {
         }
     }
     let descriptors = shot::shot_descriptors(shape.mesh(), shot::DEFAULT_RADIUS_FRACTION, shot::DEFAULT_MIN_NEIGHBORS)?;
-    let matches = starts::descriptor_matches(&loc.coarse_descriptors, &descriptors);
-    Ok(Target { shape, area, terms, spectra, descriptors, matches, warnings })
+    // The matches are filled in once the optimisation mesh is chosen.
+    Ok(Target { shape, area, terms, spectra, descriptors, matches: None, warnings })
 }
 
 /// Stage 2: the starts. Given regions first, then per centre an area-matched ball, its
 /// complement and a wide Gaussian bump, then the plane cuts, then the two descriptor starts
 /// (the regions whose SHOT descriptors the partial's resemble).
-fn starts_for(loc: &Localizer, target: &Target, initial_regions: &[Vec<bool>]) -> Vec<Start> {
-    let points = loc.coarse.mesh().vertices();
-    let mass = loc.coarse.mass();
+fn starts_for(level: &OptimisationMesh, target: &Target, initial_regions: &[Vec<bool>]) -> Vec<Start> {
+    let points = level.coarse.mesh().vertices();
+    let mass = level.coarse.mass();
     let sigma = target.area.sqrt();
     let mut out: Vec<Start> = initial_regions
         .iter()
         .enumerate()
-        .map(|(i, r)| starts::mask_start(&loc.to_coarse(r).0, &format!("given#{i}")))
+        .map(|(i, r)| starts::mask_start(&level.to_coarse(r).0, &format!("given#{i}")))
         .collect();
-    let balls = starts::area_ball_starts(&loc.centre_distances, mass, &loc.centres, target.area);
-    for (pair, &c) in balls.chunks(2).zip(&loc.centres) {
+    let balls = starts::area_ball_starts(&level.centre_distances, mass, &level.centres, target.area);
+    for (pair, &c) in balls.chunks(2).zip(&level.centres) {
         out.extend(pair.iter().cloned());
         let [_, bump] = starts::gaussian_pair(points, c, 2.0 * sigma, 1);
         out.push(bump);
     }
-    out.extend(starts::plane_cut_starts_from_heights(&loc.plane_heights, mass, target.area));
+    out.extend(starts::plane_cut_starts_from_heights(&level.plane_heights, mass, target.area));
     if let Some(matches) = &target.matches {
-        let neighbors = crate::mesh::topology::vertex_neighbors(loc.coarse.mesh());
+        let neighbors = crate::mesh::topology::vertex_neighbors(level.coarse.mesh());
         out.extend(starts::descriptor_starts(matches, &neighbors, mass, target.area));
     }
     out
@@ -302,7 +356,7 @@ fn starts_for(loc: &Localizer, target: &Target, initial_regions: &[Vec<bool>]) -
 /// Stage 3: every start optimised (in parallel on the localizer's pool, progress reported
 /// from this thread). A start that fails numerically is dropped with a warning; all failing
 /// is an error.
-fn optimise(loc: &Localizer, target: &Target, starts: &[Start], progress: &Progress) -> Result<(Vec<Run>, Option<String>)> {
+fn optimise(loc: &Localizer, level: &OptimisationMesh, target: &Target, starts: &[Start], progress: &Progress) -> Result<(Vec<Run>, Option<String>)> {
     use rayon::prelude::*;
     let iterations = loc.options.max_iterations;
     let done = AtomicUsize::new(0);
@@ -313,7 +367,7 @@ fn optimise(loc: &Localizer, target: &Target, starts: &[Start], progress: &Progr
             loc.workers.install(|| {
                 starts
                     .par_iter()
-                    .map(|s| optimise_start(&loc.coarse, &target.terms, s, iterations, &workers_progress, &done))
+                    .map(|s| optimise_start(&level.coarse, &target.terms, s, iterations, &workers_progress, &done))
                     .collect()
             })
         });
@@ -389,11 +443,11 @@ fn optimise_start(shape: &Shape, terms: &[SpectrumTerm], start: &Start, iteratio
 
 /// Stage 4: each run's region: the superlevel set of its eigenvector energy with the
 /// partial's area on the optimisation mesh, carried to the full shape and closed.
-fn regions(loc: &Localizer, target: &Target, runs: Vec<Run>) -> Result<Vec<(Run, CoarseMask, FullMask)>> {
+fn regions(loc: &Localizer, level: &OptimisationMesh, target: &Target, runs: Vec<Run>) -> Result<Vec<(Run, CoarseMask, FullMask)>> {
     runs.into_iter()
         .map(|run| {
-            let coarse = CoarseMask(area_matched_region(&run.energy, loc.coarse.mass(), target.area));
-            let full = loc.to_full(&coarse)?;
+            let coarse = CoarseMask(area_matched_region(&run.energy, level.coarse.mass(), target.area));
+            let full = loc.to_full(level, &coarse)?;
             Ok((run, coarse, full))
         })
         .collect()
@@ -402,7 +456,7 @@ fn regions(loc: &Localizer, target: &Target, runs: Vec<Run>) -> Result<Vec<(Run,
 /// Stage 5: every candidate's scores ([`crate::selection`]): descriptor projections and
 /// region cost on the optimisation mesh, the partial fit, the boundary misfit on the full
 /// shape.
-fn score(loc: &Localizer, target: &Target, candidates: Vec<(Run, CoarseMask, FullMask)>) -> Result<Vec<Scored>> {
+fn score(loc: &Localizer, level: &OptimisationMesh, target: &Target, candidates: Vec<(Run, CoarseMask, FullMask)>) -> Result<Vec<Scored>> {
     let metrics: Vec<Metric> = target.terms.iter().map(|t| t.metric).collect();
     let heights: Vec<f64> = target.terms.iter().map(|t| 2.0 * t.height).collect();
     let target_values: Vec<Vec<f64>> = target.terms.iter().map(|t| t.target.clone()).collect();
@@ -410,10 +464,10 @@ fn score(loc: &Localizer, target: &Target, candidates: Vec<(Run, CoarseMask, Ful
     let signatures = selection::signatures_from_spectra(&target.shape, &target.descriptors, &known)?;
     let coarse_regions: Vec<Vec<bool>> = candidates.iter().map(|(_, c, _)| c.0.clone()).collect();
     let borrowed: Vec<&[bool]> = coarse_regions.iter().map(Vec::as_slice).collect();
-    let fits = selection::partial_fits(&loc.coarse_descriptors, &target.descriptors, &borrowed)?;
+    let fits = selection::partial_fits(&level.coarse_descriptors, &target.descriptors, &borrowed)?;
     let spectral = selection::selection_scores(
-        &loc.coarse,
-        &loc.coarse_descriptors,
+        &level.coarse,
+        &level.coarse_descriptors,
         &metrics,
         &signatures,
         &target_values,
@@ -446,12 +500,12 @@ fn score(loc: &Localizer, target: &Target, candidates: Vec<(Run, CoarseMask, Ful
 
 /// Stage 7: the chosen candidate's region, score and potential on the full mesh, and every
 /// candidate for inspection.
-fn result(loc: &Localizer, target: &Target, scored: Vec<Scored>, choice: usize, timings: Timings, warnings: Vec<String>) -> Localization {
+fn result(loc: &Localizer, level: &OptimisationMesh, target: &Target, scored: Vec<Scored>, choice: usize, timings: Timings, warnings: Vec<String>) -> Localization {
     let best = &scored[choice].run;
     let energy_max = best.energy.iter().cloned().fold(0.0, f64::max).max(f64::MIN_POSITIVE);
-    let score = loc.cell_of_full.iter().map(|&j| (best.energy[j as usize] / energy_max).clamp(0.0, 1.0)).collect();
+    let score = level.cell_of_full.iter().map(|&j| (best.energy[j as usize] / energy_max).clamp(0.0, 1.0)).collect();
     let v = potential_from_w(&best.w, target.terms[0].height);
-    let potential = loc.cell_of_full.iter().map(|&j| v[j as usize] / loc.scale.powi(2)).collect();
+    let potential = level.cell_of_full.iter().map(|&j| v[j as usize] / loc.scale.powi(2)).collect();
     let (k_regular, _) = loc.options.mode.counts(loc.options.k);
     let mut values = best.eigenvalues.iter().cloned();
     let mut targets = target.terms.iter().map(|t| t.target.clone());
@@ -486,6 +540,7 @@ fn result(loc: &Localizer, target: &Target, scored: Vec<Scored>, choice: usize, 
         target_si,
         cost,
         confidence,
+        optimisation_vertices: level.coarse.n_vertices(),
         selected_start: choice,
         n_starts,
         timings,

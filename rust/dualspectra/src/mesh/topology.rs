@@ -82,6 +82,37 @@ pub fn connected_components(mesh: &TriMesh) -> (Vec<u32>, usize) {
     (comp, count as usize)
 }
 
+/// Length of each boundary curve (a connected set of boundary edges: a hole's rim, or the
+/// outer rim of a cut), longest first; empty for a closed mesh. Boundary curves that touch at
+/// a vertex count as one.
+pub fn boundary_curve_lengths(mesh: &TriMesh) -> Vec<f64> {
+    let mut edges: Vec<(u32, u32)> = edge_face_counts(mesh).into_iter().filter(|&(_, c)| c == 1).map(|(e, _)| e).collect();
+    // A fixed order: the sums do not depend on the hash map's iteration order.
+    edges.sort_unstable();
+    let mut parent: Vec<u32> = (0..mesh.n_vertices() as u32).collect();
+    fn find(p: &mut [u32], mut x: u32) -> u32 {
+        while p[x as usize] != x {
+            p[x as usize] = p[p[x as usize] as usize];
+            x = p[x as usize];
+        }
+        x
+    }
+    for &(a, b) in &edges {
+        let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
+        if ra != rb {
+            parent[ra.max(rb) as usize] = ra.min(rb);
+        }
+    }
+    let v = mesh.vertices();
+    let mut length: HashMap<u32, f64> = HashMap::new();
+    for &(a, b) in &edges {
+        *length.entry(find(&mut parent, a)).or_insert(0.0) += super::distance(v[a as usize], v[b as usize]);
+    }
+    let mut out: Vec<f64> = length.into_values().collect();
+    out.sort_unstable_by(|a, b| b.total_cmp(a));
+    out
+}
+
 /// Euler characteristic `chi = V - E + F`.
 pub fn euler_characteristic(mesh: &TriMesh) -> i64 {
     mesh.n_vertices() as i64 - edge_face_counts(mesh).len() as i64 + mesh.n_faces() as i64
@@ -121,6 +152,24 @@ pub fn edge_graph_distances(mesh: &TriMesh, neighbors: &[Vec<u32>], source: usiz
 mod tests {
     use super::*;
     use crate::mesh::generate::grid;
+
+    /// A 1 x 1 grid has one boundary curve of length 4; without the faces around an inner
+    /// vertex it gets a second curve, the hole's rim; a closed sphere has none.
+    #[test]
+    fn boundary_curves_of_a_square_with_a_hole() {
+        let g = grid(1.0, 1.0, 10, 10);
+        let lengths = boundary_curve_lengths(&g);
+        assert_eq!(lengths.len(), 1);
+        assert!((lengths[0] - 4.0).abs() < 1e-12);
+        let centre = g.vertices().iter().position(|p| (p[0] - 0.5).abs() < 1e-9 && (p[1] - 0.5).abs() < 1e-9).unwrap() as u32;
+        let faces: Vec<[u32; 3]> = g.faces().iter().filter(|f| !f.contains(&centre)).copied().collect();
+        let (holed, _) = TriMesh::new_dropping_isolated(g.vertices().to_vec(), faces).unwrap();
+        let lengths = boundary_curve_lengths(&holed);
+        assert_eq!(lengths.len(), 2);
+        assert!((lengths[0] - 4.0).abs() < 1e-12);
+        assert!(lengths[1] > 0.3 && lengths[1] < 0.8, "hole rim {}", lengths[1]);
+        assert!(boundary_curve_lengths(&crate::mesh::generate::icosphere(1)).is_empty());
+    }
 
     #[test]
     fn edge_graph_distances_bound_the_euclidean_and_are_exact_along_grid_lines() {
