@@ -73,8 +73,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 // The decimation's kept vertices, compared with the unmoved run's.
                 let kept = localizer.optimisation_vertex_origins().to_vec();
                 let same = first_kept.get_or_insert_with(|| kept.clone()) == &kept;
-                coarse.push(format!("{}{}", localizer.optimisation_vertices(), if same { "" } else { "*" }));
                 let found = localizer.locate(&partial, &Progress::none())?;
+                // The mesh the partial was optimised on (the finer one for a partial with holes;
+                // `*`: the prepared mesh's kept vertices differ from the unmoved run's).
+                coarse.push(format!("{}{}", found.optimisation_vertices, if same { "" } else { "*" }));
                 let iou = match &data.gt_sym {
                     Some(sym) => symmetry_aware(&found.region, &data.gt, sym, None)?.0.iou,
                     None => scores(&found.region, &data.gt)?.iou,

@@ -37,7 +37,7 @@ pub const FINE_RESOLUTION_FACTOR: usize = 2;
 /// A partial has holes when the rims of its boundary curves other than the longest add up
 /// to at least this fraction of $\sqrt{A_N}$ (docs/benchmarks/options.md, "Finer mesh for
 /// partials with holes").
-pub const HOLE_RIM_FRACTION: f64 = 0.5;
+pub const HOLE_RIM_FRACTION: f64 = 1.0;
 
 /// Whether `partial` has holes (other boundary curves than its outer rim, long enough):
 /// holes of a few coarse edges' size are what the default optimisation mesh cannot draw.
