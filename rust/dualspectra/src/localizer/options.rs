@@ -169,7 +169,7 @@ pub const OPTIONS: &[OptionSpec] = &[
         name: "resolution",
         label: "Optimisation vertices",
         kind: OptionKind::Int { min: 0, max: 200_000 },
-        doc: "Vertices of the decimated full shape the potential is optimised on (0: no decimation; otherwise at least 200).",
+        doc: "Vertices of the decimated full shape the potential is optimised on (0: no decimation; otherwise at least 200); a partial with holes gets twice that.",
     },
     OptionSpec {
         name: "centers",
