@@ -4,8 +4,10 @@
 //! [`Localizer::new`] prepares what depends on the full shape alone, once: its scale, the
 //! decimated optimisation mesh and its cells on the full shape, the transferred
 //! scale-invariant factor, the SHOT descriptors, the start centres and plane directions,
-//! and one symbolic Cholesky analysis shared by every eigensolver. [`Localizer::locate`]
-//! then runs the stages for one partial (`stages.rs`); a `Localizer` is `Send + Sync`, so
+//! and one symbolic Cholesky analysis shared by every eigensolver; a second, finer
+//! optimisation mesh for partials with holes is prepared the same way on the first such
+//! partial ([`FINE_RESOLUTION_FACTOR`]). [`Localizer::locate`] then runs the stages for one
+//! partial (`stages.rs`); a `Localizer` is `Send + Sync`, so
 //! several partials may be located concurrently. [`localize`] is the one-call form
 //! (geometry-central's `HeatMethodDistanceSolver` beside `heatMethodDistance`). A prepared
 //! shape is saved and loaded with [`Localizer::save`] / [`Localizer::load`] (`persist.rs`:

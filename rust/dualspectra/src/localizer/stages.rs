@@ -69,17 +69,19 @@ impl Localizer {
         if self.options.resolution == 0 || self.level.coarse.n_vertices() >= self.full.n_vertices() || !has_holes(partial) {
             return Ok((self.level.clone(), Vec::new()));
         }
+        // Held while the finer mesh is built: concurrent partials with holes wait for it, and a
+        // cancelled or failed build leaves it unset for the next one.
         let mut fine = self.fine_level.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
-        if fine.is_none() {
-            progress.report(0.0, "preparing the finer optimisation mesh")?;
-            let mut notes = Vec::new();
-            let level = self
-                .workers
-                .install(|| prepare_level(&self.full, fine_resolution, &self.options, &mut notes, &Progress::none().with_cancel_flag(progress.cancel_flag())))?;
-            *fine = Some((Arc::new(level), notes));
+        if let Some(built) = fine.as_ref() {
+            return Ok(built.clone());
         }
-        let (level, notes) = fine.as_ref().expect("set above");
-        Ok((level.clone(), notes.clone()))
+        progress.report(0.0, "preparing the finer optimisation mesh")?;
+        let mut notes = Vec::new();
+        let cancel = Progress::none().with_cancel_flag(progress.cancel_flag());
+        let level = self.workers.install(|| prepare_level(&self.full, fine_resolution, &self.options, &mut notes, &cancel))?;
+        let built = (Arc::new(level), notes);
+        *fine = Some(built.clone());
+        Ok(built)
     }
 
     /// A coarse mask spread over each optimisation vertex's cell on the full shape, then
