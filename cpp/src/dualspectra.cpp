@@ -107,6 +107,7 @@ Localization to_localization(const detail::LocalizationData& d) {
   r.cost = d.cost;
   r.confidence = d.confidence;
   r.similarity_score = d.similarity_score;
+  r.optimisation_vertices = d.optimisation_vertices;
   r.selected_start = d.selected_start;
   r.n_starts = d.n_starts;
   r.timings = d.timings;

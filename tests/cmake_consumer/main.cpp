@@ -155,10 +155,12 @@ int main() {
     ds_result_region(cres, cregion.data(), cregion.size());
     double cconfidence = -1.0;
     ds_result_confidence(cres, &cconfidence);
+    std::size_t coptimised_on = 0;
+    ds_result_optimisation_vertices(cres, &coptimised_on);
     const auto cpp = prepared.locate(top);
     check(st == DS_OK && std::vector<bool>(cregion.begin(), cregion.end()) == cpp.region &&
-              cconfidence == cpp.confidence,
-          "C ds_localizer_locate = C++ Localizer::locate, region and confidence (status " +
+              cconfidence == cpp.confidence && coptimised_on > 0 && coptimised_on == cpp.optimisation_vertices,
+          "C ds_localizer_locate = C++ Localizer::locate, region, confidence and optimisation mesh (status " +
               std::string(ds_status_name(st)) + ")");
     ds_result_destroy(cres);
     ds_localizer_destroy(cloc);

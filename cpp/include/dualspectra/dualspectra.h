@@ -487,6 +487,14 @@ ds_status ds_result_cost(const struct ds_result *result, double *out);
 // `result` any pointer (a handle argument, checked); `out` valid for one write.
 ds_status ds_result_confidence(const struct ds_result *result, double *out);
 
+// Vertices of the optimisation mesh this localization ran on: about the `resolution`
+// option, or twice that for a partial with holes (docs/algorithm.md, "A finer mesh for
+// partials with holes").
+//
+// # Safety
+// `result` any pointer (a handle argument, checked); `out` valid for one write.
+ds_status ds_result_optimisation_vertices(const struct ds_result *result, size_t *out);
+
 // How similar the partial is to the full shape, from this localization: lower is more
 // similar, comparable between full shapes of different size and meshing (both shapes at
 // unit full-shape area), the score `ds_search` ranks by. The core's

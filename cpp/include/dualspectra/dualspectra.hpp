@@ -167,6 +167,9 @@ struct Localization {
   // search::similarity_score_of (the best partial fit among the candidate regions:
   // docs/algorithm.md, "Searching several full shapes"); +inf when unknown.
   double similarity_score = 0.0;
+  // Vertices of the optimisation mesh used: about the resolution option, or twice that for a
+  // partial with holes.
+  std::size_t optimisation_vertices = 0;
   std::size_t selected_start = 0;
   std::size_t n_starts = 0;
   Timings timings{};                   // wall-clock seconds per stage

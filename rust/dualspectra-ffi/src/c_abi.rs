@@ -1383,6 +1383,17 @@ pub unsafe extern "C" fn ds_result_confidence(result: *const ds_result, out: *mu
     guard(|| unsafe { write_out(out, handle(result, "result")?.loc.confidence, "out") })
 }
 
+/// Vertices of the optimisation mesh this localization ran on: about the `resolution`
+/// option, or twice that for a partial with holes (docs/algorithm.md, "A finer mesh for
+/// partials with holes").
+///
+/// # Safety
+/// `result` any pointer (a handle argument, checked); `out` valid for one write.
+#[no_mangle]
+pub unsafe extern "C" fn ds_result_optimisation_vertices(result: *const ds_result, out: *mut usize) -> ds_status {
+    guard(|| unsafe { write_out(out, handle(result, "result")?.loc.optimisation_vertices, "out") })
+}
+
 /// How similar the partial is to the full shape, from this localization: lower is more
 /// similar, comparable between full shapes of different size and meshing (both shapes at
 /// unit full-shape area), the score `ds_search` ranks by. The core's

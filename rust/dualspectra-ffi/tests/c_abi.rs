@@ -323,6 +323,11 @@ fn localize_reports_progress_and_fills_every_accessor() {
         assert!((0.0..=1.0).contains(&confidence), "{confidence}");
         assert_eq!(confidence, core.confidence);
         assert_eq!(ds_result_confidence(r, ptr::null_mut()), DS_INVALID_ARGUMENT);
+        let mut optimised_on = 0usize;
+        assert_eq!(ds_result_optimisation_vertices(r, &mut optimised_on), DS_OK);
+        assert!(optimised_on > 0);
+        assert_eq!(optimised_on, core.optimisation_vertices);
+        assert_eq!(ds_result_optimisation_vertices(ptr::null(), &mut optimised_on), DS_INVALID_ARGUMENT);
         let mut t = ds_timings::default();
         assert_eq!(ds_result_timings(r, &mut t), DS_OK);
         let mut secs = 0.0;
