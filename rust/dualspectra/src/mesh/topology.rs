@@ -49,30 +49,46 @@ pub fn vertex_neighbors(mesh: &TriMesh) -> Vec<Vec<u32>> {
     nb
 }
 
-/// Connected components (through faces): `(component id per vertex, number of components)`.
-pub fn connected_components(mesh: &TriMesh) -> (Vec<u32>, usize) {
-    let n = mesh.n_vertices();
-    let mut parent: Vec<u32> = (0..n as u32).collect();
-    fn find(p: &mut [u32], mut x: u32) -> u32 {
+/// Union-find over vertex indices: path halving, the smaller root wins (so a class's root
+/// is its smallest vertex and the result does not depend on the order of the joins).
+struct VertexSets(Vec<u32>);
+
+impl VertexSets {
+    fn new(n: usize) -> Self {
+        VertexSets((0..n as u32).collect())
+    }
+
+    fn root(&mut self, mut x: u32) -> u32 {
+        let p = &mut self.0;
         while p[x as usize] != x {
             p[x as usize] = p[p[x as usize] as usize];
             x = p[x as usize];
         }
         x
     }
+
+    fn join(&mut self, a: u32, b: u32) {
+        let (ra, rb) = (self.root(a), self.root(b));
+        if ra != rb {
+            self.0[ra.max(rb) as usize] = ra.min(rb);
+        }
+    }
+}
+
+/// Connected components (through faces): `(component id per vertex, number of components)`.
+pub fn connected_components(mesh: &TriMesh) -> (Vec<u32>, usize) {
+    let n = mesh.n_vertices();
+    let mut sets = VertexSets::new(n);
     for f in mesh.faces() {
         for e in 1..3 {
-            let (ra, rb) = (find(&mut parent, f[0]), find(&mut parent, f[e]));
-            if ra != rb {
-                parent[ra.max(rb) as usize] = ra.min(rb);
-            }
+            sets.join(f[0], f[e]);
         }
     }
     let mut id = vec![u32::MAX; n];
     let mut comp = vec![0u32; n];
     let mut count = 0;
     for v in 0..n {
-        let r = find(&mut parent, v as u32) as usize;
+        let r = sets.root(v as u32) as usize;
         if id[r] == u32::MAX {
             id[r] = count;
             count += 1;
@@ -89,24 +105,14 @@ pub fn boundary_curve_lengths(mesh: &TriMesh) -> Vec<f64> {
     let mut edges: Vec<(u32, u32)> = edge_face_counts(mesh).into_iter().filter(|&(_, c)| c == 1).map(|(e, _)| e).collect();
     // A fixed order: the sums do not depend on the hash map's iteration order.
     edges.sort_unstable();
-    let mut parent: Vec<u32> = (0..mesh.n_vertices() as u32).collect();
-    fn find(p: &mut [u32], mut x: u32) -> u32 {
-        while p[x as usize] != x {
-            p[x as usize] = p[p[x as usize] as usize];
-            x = p[x as usize];
-        }
-        x
-    }
+    let mut sets = VertexSets::new(mesh.n_vertices());
     for &(a, b) in &edges {
-        let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
-        if ra != rb {
-            parent[ra.max(rb) as usize] = ra.min(rb);
-        }
+        sets.join(a, b);
     }
     let v = mesh.vertices();
     let mut length: HashMap<u32, f64> = HashMap::new();
     for &(a, b) in &edges {
-        *length.entry(find(&mut parent, a)).or_insert(0.0) += super::distance(v[a as usize], v[b as usize]);
+        *length.entry(sets.root(a)).or_insert(0.0) += super::distance(v[a as usize], v[b as usize]);
     }
     let mut out: Vec<f64> = length.into_values().collect();
     out.sort_unstable_by(|a, b| b.total_cmp(a));
