@@ -65,8 +65,9 @@ impl Localizer {
     /// The optimisation mesh for `partial` and notes on it: the finer one for a partial with
     /// holes (built on first use), else the prepared one.
     fn level_for(&self, partial: &TriMesh, progress: &Progress) -> Result<(Arc<OptimisationMesh>, Vec<String>)> {
-        let fine_resolution = self.options.resolution.saturating_mul(FINE_RESOLUTION_FACTOR);
-        if self.options.resolution == 0 || self.level.coarse.n_vertices() >= self.full.n_vertices() || !has_holes(partial) {
+        // A prepared mesh that is the full shape itself (resolution 0 or above the vertex
+        // count, or a failed decimation) has nothing finer.
+        if self.level.coarse.n_vertices() >= self.full.n_vertices() || !has_holes(partial) {
             return Ok((self.level.clone(), Vec::new()));
         }
         // Held while the finer mesh is built: concurrent partials with holes wait for it, and a
@@ -78,6 +79,7 @@ impl Localizer {
         progress.report(0.0, "preparing the finer optimisation mesh")?;
         let mut notes = Vec::new();
         let cancel = Progress::none().with_cancel_flag(progress.cancel_flag());
+        let fine_resolution = self.options.resolution.saturating_mul(FINE_RESOLUTION_FACTOR);
         let level = self.workers.install(|| prepare_level(&self.full, fine_resolution, &self.options, &mut notes, &cancel))?;
         let built = (Arc::new(level), notes);
         *fine = Some(built.clone());
@@ -224,9 +226,7 @@ struct Scored {
 pub(super) fn locate(loc: &Localizer, partial: &TriMesh, initial_regions: &[Vec<bool>], progress: &Progress) -> Result<Localization> {
     let clock = Clock::start();
     progress.report(0.0, "preprocessing")?;
-    let mut target = loc.workers.install(|| target(loc, partial))?;
-    let (level, level_notes) = loc.level_for(target.shape.mesh(), progress)?;
-    target.matches = starts::descriptor_matches(&level.coarse_descriptors, &target.descriptors);
+    let (target, level, level_notes) = target_on_its_mesh(loc, partial, progress)?;
     let t_pre = clock.lap();
     progress.report(0.05, "starts")?;
     let starts = starts_for(&level, &target, initial_regions);
@@ -265,9 +265,7 @@ pub(super) fn locate(loc: &Localizer, partial: &TriMesh, initial_regions: &[Vec<
 /// mask; the vertices around a bump's centre), carried to the full shape, with its label:
 /// what the optimisation begins from (a diagnostic; [`Localizer::start_regions`]).
 pub(super) fn start_regions(loc: &Localizer, partial: &TriMesh) -> Result<Vec<(String, Vec<bool>)>> {
-    let mut target = loc.workers.install(|| target(loc, partial))?;
-    let (level, _) = loc.level_for(target.shape.mesh(), &Progress::none())?;
-    target.matches = starts::descriptor_matches(&level.coarse_descriptors, &target.descriptors);
+    let (target, level, _) = target_on_its_mesh(loc, partial, &Progress::none())?;
     starts_for(&level, &target, &[])
         .into_iter()
         .map(|s| {
@@ -278,8 +276,17 @@ pub(super) fn start_regions(loc: &Localizer, partial: &TriMesh) -> Result<Vec<(S
         .collect()
 }
 
+/// Stage 1 with the optimisation mesh it chooses ([`Localizer::level_for`]) and the notes on
+/// that mesh: the target's descriptor matches are on that mesh.
+fn target_on_its_mesh(loc: &Localizer, partial: &TriMesh, progress: &Progress) -> Result<(Target, Arc<OptimisationMesh>, Vec<String>)> {
+    let mut target = loc.workers.install(|| target(loc, partial))?;
+    let (level, notes) = loc.level_for(target.shape.mesh(), progress)?;
+    target.matches = starts::descriptor_matches(&level.coarse_descriptors, &target.descriptors);
+    Ok((target, level, notes))
+}
+
 /// Stage 1: the partial's largest component, scaled; its Dirichlet spectra and descriptors
-/// (their matches on the optimisation mesh are left to the caller, which chooses the mesh).
+/// (their matches on the optimisation mesh are left to [`target_on_its_mesh`]).
 fn target(loc: &Localizer, partial: &TriMesh) -> Result<Target> {
     let options = &loc.options;
     let mut warnings = Vec::new();
