@@ -343,10 +343,10 @@ fn results_do_not_depend_on_the_thread_count() {
 }
 
 /// A partial with holes is optimised on the finer mesh ([`dualspectra::localizer::FINE_RESOLUTION_FACTOR`]
-/// x `resolution`), a clean cut on the prepared one; the finer mesh is built on first use, so
+/// x `resolution`) without plane-cut starts, a clean cut on the prepared one with them; the finer mesh is built on first use, so
 /// a saved and loaded localizer (which does not store it) gives the same result bit for bit.
 #[test]
-fn a_partial_with_holes_is_optimised_on_the_finer_mesh() {
+fn a_partial_with_holes_is_optimised_on_the_finer_mesh_without_plane_starts() {
     use dualspectra::localizer::FINE_RESOLUTION_FACTOR;
     let full = bumpy_sphere(4);
     let unit = |p: [f64; 3]| {
@@ -371,6 +371,11 @@ fn a_partial_with_holes_is_optimised_on_the_finer_mesh() {
     assert!((fine as f64 - target).abs() < 0.1 * target, "{fine} optimisation vertices for {target}");
     assert_eq!(localizer.optimisation_vertices(), coarse, "the prepared mesh is unchanged");
     assert!(iou(&found.region, &truth) > 0.7, "IoU {}", iou(&found.region, &truth));
+    // A partial with holes is no plane cut: it starts from the centres and its descriptors only.
+    let planes = |r: &dualspectra::Localization| r.candidates.iter().filter(|c| c.label.starts_with("plane")).count();
+    assert_eq!(planes(&found_clean), o.plane_cuts);
+    assert_eq!(planes(&found), 0);
+    assert!(found.candidates.iter().any(|c| c.label == "descriptor-vote"));
     let loaded = Localizer::from_bytes(&localizer.to_bytes()).unwrap();
     let again = loaded.locate(&holed, &Progress::none()).unwrap();
     assert_eq!(again.region, found.region);

@@ -78,10 +78,12 @@ pub struct Options {
     /// Seed of every random choice: the same inputs and seed give the same result. Default 0.
     pub seed: u64,
     /// Vertices of the decimated full shape the potential is optimised on; 0: no decimation.
-    /// Default 1000; 0 or 200..=200000.
+    /// Default 2000; 0 or 200..=200000.
     pub resolution: usize,
     /// Farthest-point centres; each gives 3 starts (an area-matched ball, its complement and a
-    /// wide Gaussian bump). Default 4; 0..=64.
+    /// wide Gaussian bump) beside the plane-cut and descriptor starts. Default 0: they cost
+    /// 2.5x the time for no gain across the dev sets (docs/benchmarks/options.md,
+    /// "Starts"); 0..=64.
     pub centers: usize,
     /// Trust-region iterations per start. Default 25; 1..=1000.
     pub max_iterations: usize,
@@ -101,8 +103,8 @@ impl Default for Options {
             k: 20,
             alpha: crate::geometry::metric::DEFAULT_ALPHA,
             seed: 0,
-            resolution: 1000,
-            centers: 4,
+            resolution: 2000,
+            centers: 0,
             max_iterations: 25,
             threads: 0,
             plane_cuts: 6,
@@ -175,7 +177,7 @@ pub const OPTIONS: &[OptionSpec] = &[
         name: "centers",
         label: "Start centres",
         kind: OptionKind::Int { min: 0, max: 64 },
-        doc: "Farthest-point centres of the starts; 3 starts each (an area-matched ball, its complement, a wide bump).",
+        doc: "Farthest-point centres of extra starts (default none); 3 starts each (an area-matched ball, its complement, a wide bump).",
     },
     OptionSpec {
         name: "max_iterations",

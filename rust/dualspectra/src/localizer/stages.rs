@@ -62,12 +62,12 @@ impl OptimisationMesh {
 }
 
 impl Localizer {
-    /// The optimisation mesh for `partial` and notes on it: the finer one for a partial with
+    /// The optimisation mesh for `target` and notes on it: the finer one for a partial with
     /// holes (built on first use), else the prepared one.
-    fn level_for(&self, partial: &TriMesh, progress: &Progress) -> Result<(Arc<OptimisationMesh>, Vec<String>)> {
+    fn level_for(&self, target: &Target, progress: &Progress) -> Result<(Arc<OptimisationMesh>, Vec<String>)> {
         // A prepared mesh that is the full shape itself (resolution 0 or above the vertex
         // count, or a failed decimation) has nothing finer.
-        if self.level.coarse.n_vertices() >= self.full.n_vertices() || !has_holes(partial) {
+        if self.level.coarse.n_vertices() >= self.full.n_vertices() || !target.has_holes {
             return Ok((self.level.clone(), Vec::new()));
         }
         // Held while the finer mesh is built: concurrent partials with holes wait for it, and a
@@ -199,6 +199,9 @@ struct Target {
     /// Its descriptors' correspondences on the optimisation mesh (the descriptor starts and
     /// the vote share of the selection); `None` without descriptors.
     matches: Option<starts::DescriptorMatches>,
+    /// Whether it has holes ([`has_holes`]): it is optimised on the finer mesh, and it is not
+    /// a plane cut, so the plane-cut starts are left out.
+    has_holes: bool,
     warnings: Vec<String>,
 }
 
@@ -280,7 +283,7 @@ pub(super) fn start_regions(loc: &Localizer, partial: &TriMesh) -> Result<Vec<(S
 /// that mesh: the target's descriptor matches are on that mesh.
 fn target_on_its_mesh(loc: &Localizer, partial: &TriMesh, progress: &Progress) -> Result<(Target, Arc<OptimisationMesh>, Vec<String>)> {
     let mut target = loc.workers.install(|| target(loc, partial))?;
-    let (level, notes) = loc.level_for(target.shape.mesh(), progress)?;
+    let (level, notes) = loc.level_for(&target, progress)?;
     target.matches = starts::descriptor_matches(&level.coarse_descriptors, &target.descriptors);
     Ok((target, level, notes))
 }
@@ -333,12 +336,14 @@ fn target(loc: &Localizer, partial: &TriMesh) -> Result<Target> {
     }
     let descriptors = shot::shot_descriptors(shape.mesh(), shot::DEFAULT_RADIUS_FRACTION, shot::DEFAULT_MIN_NEIGHBORS)?;
     // The matches are filled in once the optimisation mesh is chosen.
-    Ok(Target { shape, area, terms, spectra, descriptors, matches: None, warnings })
+    let has_holes = has_holes(shape.mesh());
+    Ok(Target { shape, area, terms, spectra, descriptors, matches: None, has_holes, warnings })
 }
 
 /// Stage 2: the starts. Given regions first, then per centre an area-matched ball, its
-/// complement and a wide Gaussian bump, then the plane cuts, then the two descriptor starts
-/// (the regions whose SHOT descriptors the partial's resemble).
+/// complement and a wide Gaussian bump, then the plane cuts (not for a partial with holes),
+/// then the two descriptor starts (the regions whose SHOT descriptors the partial's
+/// resemble).
 fn starts_for(level: &OptimisationMesh, target: &Target, initial_regions: &[Vec<bool>]) -> Vec<Start> {
     let points = level.coarse.mesh().vertices();
     let mass = level.coarse.mass();
@@ -354,11 +359,19 @@ fn starts_for(level: &OptimisationMesh, target: &Target, initial_regions: &[Vec<
         let [_, bump] = starts::gaussian_pair(points, c, 2.0 * sigma, 1);
         out.push(bump);
     }
-    out.extend(starts::plane_cut_starts_from_heights(&level.plane_heights, mass, target.area));
-    if let Some(matches) = &target.matches {
-        let neighbors = crate::mesh::topology::vertex_neighbors(level.coarse.mesh());
-        out.extend(starts::descriptor_starts(matches, &neighbors, mass, target.area));
+    let descriptor_starts = match &target.matches {
+        Some(matches) => {
+            let neighbors = crate::mesh::topology::vertex_neighbors(level.coarse.mesh());
+            starts::descriptor_starts(matches, &neighbors, mass, target.area)
+        }
+        None => Vec::new(),
+    };
+    // A partial with holes is no plane cut: its plane starts added nothing but time
+    // (docs/benchmarks/options.md, "Starts"); they stay when there is no descriptor start.
+    if !target.has_holes || descriptor_starts.is_empty() {
+        out.extend(starts::plane_cut_starts_from_heights(&level.plane_heights, mass, target.area));
     }
+    out.extend(descriptor_starts);
     out
 }
 
