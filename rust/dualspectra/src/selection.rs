@@ -366,10 +366,11 @@ pub fn agreement(regions: &[&[bool]], scores: &[CandidateScore], chosen: usize) 
 }
 
 /// Weights of [`confidence`]: bias, partial fit, margin, log region cost (a logistic
-/// regression of "symmetry-aware IoU >= 0.5" over all 290 dev pairs; the starts' consensus
-/// added nothing that carried over between sets: docs/benchmarks/confidence/,
-/// docs/benchmarks/real-partials-2026-12-02-s17.md).
-const CONFIDENCE_WEIGHTS: [f64; 4] = [8.0654, -13.7498, 3.165, -0.9818];
+/// regression of "symmetry-aware IoU >= 0.5" over all 290 dev pairs, refitted for the 8-start
+/// defaults: docs/benchmarks/confidence/fit_confidence.py,
+/// docs/benchmarks/real-partials-2026-12-03-s22.md; the starts' consensus added nothing that
+/// carried over between sets: docs/benchmarks/real-partials-2026-12-02-s17.md).
+const CONFIDENCE_WEIGHTS: [f64; 4] = [15.8178, -26.0915, 0.1948, -0.3517];
 
 /// How much to trust a chosen region, in [0, 1]: the estimated probability that its
 /// symmetry-aware IoU with the true region is at least 0.5,

@@ -83,7 +83,7 @@ pub struct Options {
     /// Farthest-point centres; each gives 3 starts (an area-matched ball, its complement and a
     /// wide Gaussian bump) beside the plane-cut and descriptor starts. Default 0: they cost
     /// 2.5x the time for no gain across the dev sets (docs/benchmarks/options.md,
-    /// "Starts"); 0..=64.
+    /// "Starts for each kind of partial"); 0..=64.
     pub centers: usize,
     /// Trust-region iterations per start. Default 25; 1..=1000.
     pub max_iterations: usize,
