@@ -159,6 +159,7 @@ std::map<std::string, QVariant> FilterDualSpectraPlugin::localize(const RichPara
         {"selected_faces", QVariant(int(done.selected_faces))},
         {"confidence", QVariant(done.confidence)},
         {"cost", QVariant(done.cost)},
+        {"optimisation_vertices", QVariant(int(done.optimisation_vertices))},
         {"seconds", QVariant(done.seconds)},
         {"reused", QVariant(done.reused)},
         {"warnings", QVariant(int(done.warnings))},

@@ -34,7 +34,7 @@ public:
     int postCondition(const QAction* a) const override;
     RichParameterList initParameterList(const QAction* a, const MeshDocument& md) override;
     /// Returns the result's numbers (PyMeshLab's dict). Localize: selected_vertices,
-    /// selected_faces, confidence, cost, seconds, reused, warnings. Rank: best_layer (its id),
+    /// selected_faces, confidence, cost, optimisation_vertices, seconds, reused, warnings. Rank: best_layer (its id),
     /// score, confidence, selected_vertices, selected_faces, ranked (layers ranked), prepared,
     /// seconds. Throws MLException, changing nothing, when the layers or an option cannot be
     /// used (the library's message).

@@ -63,7 +63,8 @@ struct LocalizeOutcome {
     double seconds = 0.0;             ///< locating the partial
     double preparation_seconds = 0.0; ///< preparing the full shape (when it was prepared now)
     bool reused = false;              ///< the full shape was prepared by an earlier call
-    size_t optimisation_vertices = 0;
+    size_t optimisation_vertices = 0; ///< of the prepared full shape's optimisation mesh
+    size_t optimised_on_vertices = 0; ///< of the mesh this result was optimised on (finer for a partial with holes)
     std::vector<std::string> warnings; ///< the library's notes (left-out vertices, repairs, ...)
 };
 

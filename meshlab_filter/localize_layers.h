@@ -34,6 +34,7 @@ struct LayersLocalized {
     double confidence = 0.0;  ///< in [0, 1]: estimated probability that IoU >= 0.5
     double cost = 0.0;
     double seconds = 0.0;     ///< locating the partial
+    size_t optimisation_vertices = 0; ///< of the mesh the partial was optimised on
     bool reused = false;      ///< the full shape was prepared by an earlier call
     size_t warnings = 0;      ///< the library's notes, each logged as a warning
 };
@@ -102,6 +103,7 @@ LayersLocalized localize_layers(LocalizerCache& cache, Model* full, Model* parti
     done.confidence = out.confidence;
     done.cost = out.cost;
     done.seconds = out.seconds;
+    done.optimisation_vertices = out.optimised_on_vertices;
     done.reused = out.reused;
     done.warnings = out.warnings.size();
     const char* json = ds_options_json(options);
@@ -110,7 +112,8 @@ LayersLocalized localize_layers(LocalizerCache& cache, Model* full, Model* parti
                    QString::number(done.selected_vertices) + " of " + QString::number(done.full_vertices) +
                    " vertices selected (" + QString::number(percent, 'f', 1) + "%), " +
                    QString::number(done.selected_faces) + " faces; confidence " +
-                   QString::number(done.confidence, 'f', 2) + "; cost " + QString::number(done.cost, 'g', 6) + "; " +
+                   QString::number(done.confidence, 'f', 2) + "; cost " + QString::number(done.cost, 'g', 6) +
+                   "; optimised on " + QString::number(done.optimisation_vertices) + " vertices; " +
                    QString::number(done.seconds, 'f', 2) + " s; options " +
                    QString::fromUtf8(json != nullptr ? json : ""));
     return done;

@@ -365,7 +365,8 @@ class LocalizeOperator(JobOperator):
         self.report(
             {'INFO'},
             f"Selected {int(region.sum())} of {len(region)} vertices of '{full.name}' "
-            f"(confidence {float(result.confidence):.2f}, cost {float(result.cost):.3g}, {job.elapsed:.1f} s, {prepared})",
+            f"(confidence {float(result.confidence):.2f}, cost {float(result.cost):.3g}, "
+            f"optimised on {int(result.optimisation_vertices)} vertices, {job.elapsed:.1f} s, {prepared})",
         )
         return {'FINISHED'}
 

@@ -381,6 +381,9 @@ def test_operator_selects_the_cut_region():
     reported = re.search(r"Selected \d+ of \d+ vertices .*\(confidence ([0-9.]+),", out["text"])
     assert reported and 0.0 <= float(reported.group(1)) <= 1.0, out["text"]
     RESULT["confidence"] = reported.group(1)
+    optimised_on = re.search(r"optimised on (\d+) vertices", out["text"])
+    assert optimised_on and int(optimised_on.group(1)) > 0, out["text"]
+    RESULT["optimisation_vertices"] = int(optimised_on.group(1))
     mesh = full.data
     sel = selected_vertices(mesh)
     score = np.zeros(len(mesh.vertices), dtype=np.float32)
@@ -554,6 +557,7 @@ def test_operator_equals_direct_call_in_world_space():
     print(f"    direct call differs on {diff} vertices, IoU {iou(direct, RESULT['selection']):.4f}")
     assert diff == 0, f"differ on {diff} vertices"
     assert f"{res.confidence:.2f}" == RESULT["confidence"], (res.confidence, RESULT["confidence"])
+    assert res.optimisation_vertices == RESULT["optimisation_vertices"], (res.optimisation_vertices, RESULT)
 
 
 def test_invoke_in_edit_mode_headless():

@@ -495,6 +495,9 @@ def main():
                 confidences = [float(m.group(1)) for m in (re.search(r"; confidence ([0-9.]+);", r) for r in results) if m]
                 checks.check("region", len(confidences) == 2 and all(0.0 <= c <= 1.0 for c in confidences),
                              "each result line gives a confidence in [0, 1]: %s" % confidences)
+                optimised_on = [int(m.group(1)) for m in (re.search(r"; optimised on (\d+) vertices;", r) for r in results) if m]
+                checks.check("region", len(optimised_on) == 2 and all(v > 0 for v in optimised_on),
+                             "each result line gives the optimisation mesh's vertices: %s" % optimised_on)
                 prepared, reused = log_lines(text, "prepared the full shape"), log_lines(text, "reused the full shape")
                 checks.check("region", len(prepared) == 1 and len(reused) == 1,
                              "one preparation, one reuse: %s" % " | ".join(prepared + reused))

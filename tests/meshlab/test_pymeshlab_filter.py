@@ -144,9 +144,12 @@ def test_region_is_the_selection_of_the_full_layer(region_run: Dict[str, Any], p
 def test_result_numbers_are_returned(region_run: Dict[str, Any]) -> None:
     first, second = region_run["first"], region_run["second"]
     for out in (first, second):
-        assert set(out) == {"selected_vertices", "selected_faces", "confidence", "cost", "seconds", "reused", "warnings"}
+        assert set(out) == {"selected_vertices", "selected_faces", "confidence", "cost", "optimisation_vertices",
+                            "seconds", "reused", "warnings"}
         assert 0.0 <= out["confidence"] <= 1.0
         assert out["seconds"] > 0.0
+    # the same partial on the same prepared shape: optimised on the same mesh both times
+    assert first["optimisation_vertices"] == second["optimisation_vertices"] > 0
     # one preparation of the full shape, then a reuse; the intake's note on the debris
     assert (first["reused"], second["reused"]) == (False, True)
     assert first["warnings"] >= 1
