@@ -343,8 +343,9 @@ fn results_do_not_depend_on_the_thread_count() {
 }
 
 /// A partial with holes is optimised on the finer mesh ([`dualspectra::localizer::FINE_RESOLUTION_FACTOR`]
-/// x `resolution`) without plane-cut starts, a clean cut on the prepared one with them; the finer mesh is built on first use, so
-/// a saved and loaded localizer (which does not store it) gives the same result bit for bit.
+/// x `resolution`) without plane-cut starts, a clean cut on the prepared one with them; the
+/// finer mesh is built on first use, so a saved and loaded localizer (which does not store it)
+/// gives the same result bit for bit.
 #[test]
 fn a_partial_with_holes_is_optimised_on_the_finer_mesh_without_plane_starts() {
     use dualspectra::localizer::FINE_RESOLUTION_FACTOR;

@@ -367,7 +367,8 @@ fn starts_for(level: &OptimisationMesh, target: &Target, initial_regions: &[Vec<
         None => Vec::new(),
     };
     // A partial with holes is no plane cut: its plane starts added nothing but time
-    // (docs/benchmarks/options.md, "Starts for each kind of partial"); they stay when there is no descriptor start.
+    // (docs/benchmarks/options.md, "Starts for each kind of partial"); they stay when there
+    // is no descriptor start.
     if !target.has_holes || descriptor_starts.is_empty() {
         out.extend(starts::plane_cut_starts_from_heights(&level.plane_heights, mass, target.area));
     }
