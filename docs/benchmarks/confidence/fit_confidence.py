@@ -4,7 +4,8 @@ scores and IoU are in them), and report how well it ranks results.
     python fit_confidence.py [FEATURE,FEATURE,...] OUT1.json [OUT2.json ...]
 
 Label of a pair: symmetry-aware IoU >= 0.5. Features (default: the model of 2026-12-01,
-partial_fit,consensus,margin; shipped since: partial_fit,margin,log_region_cost; as in `selection::agreement` and `selection::confidence`):
+partial_fit,consensus,margin; shipped from 2026-12-02: partial_fit,margin,log_region_cost;
+shipped now: partial_fit; as in `selection::agreement` and `selection::confidence`):
   - log_region_cost: spectral misfit of the chosen region's step potential,
   - partial_fit: mean nearest SHOT distance of the partial into the region,
   - boundary_misfit: |ln(L_R / L_N)|,

@@ -324,8 +324,8 @@ pub fn choose(scores: &[CandidateScore]) -> Option<usize> {
     eligible.into_iter().min_by(|&a, &b| key(a).total_cmp(&key(b)).then(a.cmp(&b)))
 }
 
-/// How the starts agree with a choice. The margin is an input of [`confidence`] beside the
-/// chosen candidate's own scores; the consensus is reported for studies.
+/// How the starts agree with a choice, for studies (neither ranked results better than the
+/// partial fit alone: [`confidence`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Agreement {
     /// Fraction of the scored candidates (those with a region cost) whose region overlaps
@@ -365,26 +365,20 @@ pub fn agreement(regions: &[&[bool]], scores: &[CandidateScore], chosen: usize) 
     Agreement { consensus, margin: if margin.is_nan() { 0.0 } else { margin } }
 }
 
-/// Weights of [`confidence`]: bias, partial fit, margin, log region cost (a logistic
-/// regression of "symmetry-aware IoU >= 0.5" over all 290 dev pairs, refitted for the 8-start
-/// defaults: docs/benchmarks/confidence/fit_confidence.py,
-/// docs/benchmarks/real-partials-2026-12-03-s22.md; the starts' consensus added nothing that
-/// carried over between sets: docs/benchmarks/real-partials-2026-12-02-s17.md).
-const CONFIDENCE_WEIGHTS: [f64; 4] = [15.8178, -26.0915, 0.1948, -0.3517];
+/// Weights of [`confidence`]: bias, partial fit (a logistic regression of "symmetry-aware
+/// IoU >= 0.5" over all 290 dev pairs: docs/benchmarks/confidence/fit_confidence.py; adding
+/// the margin to the best other answer, the region cost or the starts' consensus ranked worse,
+/// in sample and from one set to another: docs/benchmarks/real-partials-2026-12-03-s23.md).
+const CONFIDENCE_WEIGHTS: [f64; 2] = [18.0881, -31.2701];
 
 /// How much to trust a chosen region, in [0, 1]: the estimated probability that its
-/// symmetry-aware IoU with the true region is at least 0.5,
-/// $\sigma(b + a_1 f + a_2 g + a_3 \ln r)$ from the chosen candidate's partial fit $f$ (1 if
-/// unknown, clamped to [0, 10]), its region cost $r$ (how well the region's own spectra match
-/// the partial's; 1000 if unknown, clamped to [1e-6, 1e6]) and the [`Agreement`]'s margin $g$
-/// to the best other answer (NaN counts as its lowest value).
-pub fn confidence(chosen: &CandidateScore, agreement: &Agreement) -> f64 {
-    let [b, a_fit, a_margin, a_cost] = CONFIDENCE_WEIGHTS;
+/// symmetry-aware IoU with the true region is at least 0.5, $\sigma(b + a f)$ from the chosen
+/// candidate's partial fit $f$ (how far the partial's descriptors are from the region's;
+/// 1 if unknown, clamped to [0, 10]).
+pub fn confidence(chosen: &CandidateScore) -> f64 {
+    let [b, a_fit] = CONFIDENCE_WEIGHTS;
     let fit = chosen.partial_fit.filter(|v| v.is_finite()).unwrap_or(1.0).clamp(0.0, 10.0);
-    let cost = chosen.region_cost.filter(|v| !v.is_nan()).unwrap_or(1e3).clamp(1e-6, 1e6);
-    let margin = if agreement.margin.is_nan() { -MAX_MARGIN } else { agreement.margin.clamp(-MAX_MARGIN, MAX_MARGIN) };
-    let z = b + a_fit * fit + a_margin * margin + a_cost * cost.ln();
-    1.0 / (1.0 + (-z).exp())
+    1.0 / (1.0 + (-(b + a_fit * fit)).exp())
 }
 
 fn restrict_rows(m: &Mat<f64>, rows: &[u32]) -> Mat<f64> {
@@ -417,20 +411,16 @@ mod tests {
     }
 
     #[test]
-    fn confidence_is_a_probability_rising_with_the_margin_and_falling_with_a_worse_fit() {
-        let s = |fit: f64, cost: f64| CandidateScore { descriptor_score: Some(1.0), region_cost: Some(cost), boundary_misfit: Some(0.0), partial_fit: Some(fit), vote_share: None };
-        let g = |margin: f64| Agreement { consensus: 0.5, margin };
-        let c = confidence(&s(0.45, 1.0), &g(0.5));
+    fn confidence_is_a_probability_falling_with_a_worse_fit() {
+        let s = |fit: f64| CandidateScore { descriptor_score: Some(1.0), region_cost: Some(1.0), boundary_misfit: Some(0.0), partial_fit: Some(fit), vote_share: None };
+        let c = confidence(&s(0.55));
         assert!(c > 0.0 && c < 1.0, "{c}");
-        assert!(confidence(&s(0.45, 1.0), &g(2.0)) > c);
-        assert!(confidence(&s(0.55, 1.0), &g(0.5)) < c);
-        assert!(confidence(&s(0.45, 10.0), &g(0.5)) < c, "a worse spectral fit is less trusted");
+        assert!(confidence(&s(0.45)) > c && confidence(&s(0.65)) < c);
         for x in [f64::NAN, f64::INFINITY, -1e300, 0.0] {
-            let v = confidence(&s(x, x), &g(x));
+            let v = confidence(&s(x));
             assert!((0.0..=1.0).contains(&v), "{x}: {v}");
         }
-        let unknown = CandidateScore::default();
-        assert!((0.0..=1.0).contains(&confidence(&unknown, &g(f64::NAN))));
+        assert!((0.0..=1.0).contains(&confidence(&CandidateScore::default())));
     }
 
 

@@ -538,9 +538,7 @@ fn result(loc: &Localizer, level: &OptimisationMesh, target: &Target, scored: Ve
     let target_si = targets.next().unwrap_or_default();
     let cost = best.cost;
     let n_starts = scored.len();
-    let regions: Vec<&[bool]> = scored.iter().map(|c| c.full.0.as_slice()).collect();
-    let scores: Vec<CandidateScore> = scored.iter().map(|c| c.score).collect();
-    let confidence = selection::confidence(&scores[choice], &selection::agreement(&regions, &scores, choice));
+    let confidence = selection::confidence(&scored[choice].score);
     let region = scored[choice].full.0.clone();
     let candidates = scored
         .into_iter()
