@@ -33,6 +33,10 @@
 //! A vertex with fewer than `min_neighbors` support points (or an all-zero histogram)
 //! gets a zero row, and no frame.
 //!
+//! Every support point votes 1, as in the reference: votes weighted by the point's area
+//! (density-independent histograms) traded SHREC'16 CUTS for PFARM on the dev sets
+//! (docs/benchmarks/options.md, "Tried, never an option").
+//!
 //! # Radius
 //! The reference implementation used radius 9 (10 bins, 3 minimum neighbours) on
 //! SHREC'16 shapes, whose `sqrt(area)` is 126..263 (median ~140) for the null shapes.
