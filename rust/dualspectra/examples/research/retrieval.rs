@@ -11,7 +11,8 @@
 //! research_retrieval time SET_DIR [REPEATS]                 preparing vs loading each full shape (median of REPEATS)
 //! ```
 //!
-//! `run` appends to LOG.jsonl and skips the pairs already in it (a stopped run resumes);
+//! `run` appends to LOG.jsonl and skips the pairs already in it (a stopped run resumes, and
+//! overlapping strides of one set localize a shared partial once);
 //! `DUALSPECTRA_THREADS` sets the localizer's threads (default 2).
 
 use dualspectra::evaluation::datasets::Dataset;
@@ -103,7 +104,7 @@ fn off_files(dir: &Path) -> Result<Vec<PathBuf>, Box<dyn std::error::Error>> {
 }
 
 fn run(root: &Path, log: &Path, sets: &[(String, usize, usize)]) -> Result<(), Box<dyn std::error::Error>> {
-    let done: HashSet<(String, String, String)> = read_log(log)
+    let mut done: HashSet<(String, String, String)> = read_log(log)
         .unwrap_or_default()
         .into_iter()
         .map(|p| (p.set, p.partial, p.full))
@@ -206,6 +207,7 @@ fn run(root: &Path, log: &Path, sets: &[(String, usize, usize)]) -> Result<(), B
                     entry.error.as_ref().map(|e| format!(", error: {e}")).unwrap_or_default()
                 );
                 writeln!(out, "{}", serde_json::to_string(&entry)?)?;
+                done.insert((set.clone(), pair.name.clone(), name.clone()));
                 out.flush()?;
             }
         }
