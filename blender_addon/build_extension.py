@@ -13,7 +13,7 @@ Two layouts:
   (``scripts/setup.d/30-python.sh`` builds it), not a ``linux_x86_64`` one.
 
     python3 blender_addon/build_extension.py --wheel target/wheels/dualspectra-*.whl \\
-        --legacy /tmp/scripts/addons --extension /tmp/dualspectra_blender-0.1.0.zip
+        --legacy /tmp/scripts/addons --extension /tmp/dualspectra_blender-0.2.0.zip
 """
 
 import argparse

@@ -5,8 +5,8 @@ label, type, range, default, doc). At registration the operator and the panel se
 one property per entry, built from :func:`property_definitions` (``bpy`` glue in
 ``operators.py``), so that an option added to the core appears here with no edit.
 
-Blender limits: an ``IntProperty`` is a signed 32-bit integer, so wider bounds (the seed's
-``0..2^64-1``) are clamped to ``2^31 - 1``; a ``FloatProperty`` is single precision, so
+Blender limits: an ``IntProperty`` is a signed 32-bit integer, so wider bounds are clamped
+to ``2^31 - 1``; a ``FloatProperty`` is single precision, so
 :func:`option_values` passes the shortest decimal that stands for the stored value (``0.33``,
 not ``0.33000001311302185``). Checks that span options (``resolution`` 0 or at least 200)
 stay the library's: it raises, the operator reports.

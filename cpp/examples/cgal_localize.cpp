@@ -1,5 +1,5 @@
 // Localize a partial shape on a full one with CGAL meshes:
-//   cgal_localize FULL PARTIAL OUTPUT [--centers N --max-iterations N --resolution N ... | --option NAME=VALUE]
+//   cgal_localize FULL PARTIAL OUTPUT [--plane-cuts N --max-iterations N --resolution N ... | --option NAME=VALUE]
 // reads both meshes with CGAL::IO::read_polygon_mesh (OFF, PLY, OBJ, STL, ...), runs
 // dualspectra::localize, stores the result in the full mesh's vertex property maps
 // "v:dualspectra_region" (bool) and "v:dualspectra_score" (double), and writes the full mesh

@@ -1,5 +1,5 @@
 // Localize a partial shape on a full one with OpenMesh meshes:
-//   openmesh_localize FULL PARTIAL OUTPUT [--centers N --max-iterations N --resolution N ... | --option NAME=VALUE]
+//   openmesh_localize FULL PARTIAL OUTPUT [--plane-cuts N --max-iterations N --resolution N ... | --option NAME=VALUE]
 // reads both meshes with OpenMesh::IO::read_mesh (OFF, PLY, OBJ, STL, ...) into a TriMesh with
 // double points, runs dualspectra::localize, stores the region as the vertex property
 // "v:dualspectra_region" and the vertices' `selected` status flag, and writes the full mesh with

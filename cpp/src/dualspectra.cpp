@@ -106,6 +106,7 @@ Localization to_localization(const detail::LocalizationData& d) {
   r.target_si = to_std(d.target_si);
   r.cost = d.cost;
   r.confidence = d.confidence;
+  r.scale = d.scale;
   r.similarity_score = d.similarity_score;
   r.optimisation_vertices = d.optimisation_vertices;
   r.selected_start = d.selected_start;
@@ -165,6 +166,10 @@ Mesh Mesh::from_host(const std::vector<std::array<double, 3>>& vertices,
                      const std::vector<std::array<std::uint32_t, 3>>& faces) {
   return from_host(vertices.empty() ? nullptr : vertices.front().data(), vertices.size(),
                    faces.empty() ? nullptr : faces.front().data(), faces.size());
+}
+
+Mesh Mesh::read(const std::string& path) {
+  return Mesh(translated([&] { return detail::mesh_read(bytes_of(path)); }));
 }
 
 std::vector<std::array<double, 3>> Mesh::vertices() const {

@@ -1,5 +1,5 @@
 # Runs one example and checks its outputs (CTest driver, cmake -P):
-#   -DEXE=... -DFULL=... -DPARTIAL=... -DOUT=... -DCHECK=<check_region> -DARGS="--centers;1;..."
+#   -DEXE=... -DFULL=... -DPARTIAL=... -DOUT=... -DCHECK=<check_region> -DARGS="--max-iterations;10;..."
 #   [-DTRUTH=<indices file> | -DBARYC="gt;gt_sym"] [-DREQUIRE_DATA=1]
 # Prints "SKIP: ..." (the test's SKIP_REGULAR_EXPRESSION) when REQUIRE_DATA is set and the
 # input is absent.

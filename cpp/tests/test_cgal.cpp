@@ -365,7 +365,7 @@ int main() {
     dstest::SimpleMesh cat;
     if (shrec.empty())
       std::printf("\nSKIP SHREC'16 cases: %s/shrec16/null/cat.off not found (set DUALSPECTRA_DATA)\n",
-                  std::getenv("DUALSPECTRA_DATA") ? std::getenv("DUALSPECTRA_DATA") : "/work/shared/datasets");
+                  dstest::data_dir().c_str());
     else {
       cat = dstest::read_off(shrec + "/null/cat.off");
       // cat.off has twelve two-sided flaps (non-manifold base edges): removed as the Rust reader

@@ -246,10 +246,16 @@ inline SimpleMesh read_off(const std::string& path) {
   return m;
 }
 
-// SHREC'16 directory: $DUALSPECTRA_DATA/shrec16 (default /work/shared/datasets/shrec16); empty if absent.
-inline std::string shrec16_dir() {
+// The datasets folder: $DUALSPECTRA_DATA, else the one CMake found beside the repository
+// (DUALSPECTRA_TEST_DATA_DIR: ../shared/datasets).
+inline std::string data_dir() {
   const char* env = std::getenv("DUALSPECTRA_DATA");
-  const std::string dir = std::string(env && *env ? env : "/work/shared/datasets") + "/shrec16";
+  return env && *env ? std::string(env) : std::string(DUALSPECTRA_TEST_DATA_DIR);
+}
+
+// SHREC'16 directory: data_dir()/shrec16; empty if absent.
+inline std::string shrec16_dir() {
+  const std::string dir = data_dir() + "/shrec16";
   std::ifstream probe(dir + "/null/cat.off");
   return probe ? dir : std::string();
 }

@@ -91,7 +91,7 @@ int main() {
     // host's numbering, is the strict mesh's at the same vertices and false at the isolated one.
     {
       dualspectra::Options fast;
-      fast.set_json(R"({"k": 6, "centers": 1, "max_iterations": 5, "resolution": 0, "plane_cuts": 2})");
+      fast.set_json(R"({"k": 6, "max_iterations": 5, "resolution": 0, "plane_cuts": 2})");
       const dualspectra::Localizer prepared(conv.mesh, fast);
       T.check(prepared.n_vertices() == conv.mesh.n_vertices() && prepared.warnings().size() == 1,
               "Localizer on the adapter's mesh: host vertex count, the intake's note among its warnings");

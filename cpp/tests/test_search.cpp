@@ -68,7 +68,7 @@ int main() {
   const dualspectra::Mesh partial = to_mesh(part);
 
   dualspectra::Options options;
-  options.set("k", 6).set("centers", 2).set("max_iterations", 10).set("threads", 2);
+  options.set("k", 6).set("max_iterations", 10).set("threads", 2);
   std::vector<dualspectra::Localizer> library;
   for (const SimpleMesh& m : {scaled(dstest::icosphere(3), 1.6, 1.0, 0.7), full, spindle(3)})
     library.emplace_back(to_mesh(m), options);

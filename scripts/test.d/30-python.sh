@@ -5,7 +5,7 @@
 # wheel scripts/setup.d/30-python.sh built is manylinux_2_28 by `auditwheel show`, carries the
 # licence texts, and installs into a fresh venv where it imports and localizes; the sdist
 # (`maturin sdist`) has what a build from it needs. (Building a wheel from the sdist, or
-# `pip install .`, compiles everything again, ~10 min: checked by hand, see README.)
+# `pip install .`, compiles everything again, about 2 minutes on 2 cores: checked by hand, see README.)
 set -uo pipefail
 cd "$(dirname "$0")/../.."
 PY=.venv/bin/python

@@ -51,7 +51,11 @@ imports=$(nm -D --undefined-only -C "$float_plugin")
 grep -qx qt_plugin_instance <<<"$exports"; check "exports qt_plugin_instance" $?
 grep -qx qt_plugin_query_metadata <<<"$exports"; check "exports qt_plugin_query_metadata" $?
 grep -qa 'vcg.meshlab.FilterPlugin/1.0' "$float_plugin"; check "declares the IID vcg.meshlab.FilterPlugin/1.0" $?
-grep -qa '2025\.07' "$float_plugin"; check "reports MeshLab 2025.07" $?
+# MeshLab's getMLVersion() returns meshlab_xstr(MESHLAB_VERSION) inlined into the plugin, which the
+# optimiser stores as immediates rather than a string: check the definition the compiler got (the
+# double build, the same sources, is loaded by PyMeshLab 2025.7, which refuses another version).
+grep -q 'MESHLAB_VERSION=2025\.07' target/meshlab-2025-float-build/meshlab_filter/CMakeFiles/filter_dualspectra.dir/flags.make
+check "built for MeshLab 2025.07 (MESHLAB_VERSION=2025.07)" $?
 grep -qF 'RichFloat::RichFloat(QString const&, float,' <<<"$imports"; check "uses float scalars" $?
 ! grep -q '^ds_' <<<"$exports"; check "keeps the library's C ABI private (no ds_* export)" $?
 set -e

@@ -52,7 +52,6 @@ def parse_args():
     p = argparse.ArgumentParser(prog="test_addon.py")
     p.add_argument("--extension", help="install this extension .zip (Blender 4.2+) instead of using a legacy add-on")
     p.add_argument("--k", type=int, default=10, help="eigenvalues per spectrum for the localization runs")
-    p.add_argument("--centers", type=int, default=2, help="farthest-point start centres (3 starts each)")
     p.add_argument("--max-iterations", type=int, default=40, help="trust-region iterations per start")
     p.add_argument("--time-limit", type=float, default=600.0, help="seconds allowed per localization run")
     p.add_argument("--subdivisions", type=int, default=4, help="icosphere subdivisions of the test shape")
@@ -245,7 +244,7 @@ def test_operator_properties_are_the_library_options():
     op_like.alpha = np.float32(0.33).item()
     values = schema_module.option_values(op_like, table)
     assert values["alpha"] == 0.33 and values["mode"] == "dual"
-    dualspectra.Localizer(FULL_V, FULL_F, **dict(values, resolution=0, centers=1))  # accepted as they are
+    dualspectra.Localizer(FULL_V, FULL_F, **dict(values, resolution=0, plane_cuts=2))  # accepted as they are
 
 
 def test_nearest_indices_match_brute_force():
@@ -347,7 +346,7 @@ def test_job_thread_reports_progress_and_cancels():
 def test_job_reuses_a_given_localizer():
     """With a prepared Localizer the job only locates (its progress spans the whole bar) and
     gives what the Localizer gives directly."""
-    options = dict(LIB_OPTIONS, centers=1, plane_cuts=2, max_iterations=10)
+    options = dict(LIB_OPTIONS, plane_cuts=2, max_iterations=10)
     localizer = dualspectra.Localizer(FULL_V, FULL_F, **options)
     seen = []
     job = job_module.LocalizeJob(dualspectra, None, None, PART_V_MOVED, PART_F, options, localizer=localizer,
@@ -363,7 +362,7 @@ def test_job_reuses_a_given_localizer():
 # tests: the operator
 
 RESULT = {}
-LIB_OPTIONS = dict(k=ARGS.k, centers=ARGS.centers, max_iterations=ARGS.max_iterations)
+LIB_OPTIONS = dict(k=ARGS.k, max_iterations=ARGS.max_iterations)
 OP_OPTIONS = dict(LIB_OPTIONS, time_limit=ARGS.time_limit)
 
 
@@ -449,7 +448,7 @@ def test_loose_vertex_and_degenerate_face_are_left_to_the_library():
     assert not [w for w in printed if issubclass(w.category, dualspectra.DualspectraWarning)], printed
     with warnings.catch_warnings(record=True) as printed:
         warnings.simplefilter("default")
-        dualspectra.Localizer(np.r_[FULL_V, extra_v], np.r_[FULL_F, [[n + 1, n + 2, n + 3]]], resolution=0, centers=1)
+        dualspectra.Localizer(np.r_[FULL_V, extra_v], np.r_[FULL_F, [[n + 1, n + 2, n + 3]]], resolution=0, plane_cuts=2)
     assert [issubclass(w.category, dualspectra.DualspectraWarning) for w in printed] == [True], printed
     sel = selected_vertices(full.data)
     assert len(sel) == n + 4 and not sel[n:].any()
@@ -548,9 +547,9 @@ def test_operator_equals_direct_call_in_world_space():
     pv, pf = world_arrays(part)
     assert np.abs(fv - FULL_V).max() < 1e-5 * np.abs(FULL_V).max()
     assert np.abs(pv - PART_V_MOVED).max() < 1e-5 * np.abs(PART_V_MOVED).max()
-    res = dualspectra.localize(fv, ff, pv, pf, mode="dual", alpha=0.33, seed=0, **LIB_OPTIONS)
+    res = dualspectra.localize(fv, ff, pv, pf, mode="dual", alpha=0.33, **LIB_OPTIONS)
     direct = np.asarray(res.region, dtype=bool)
-    # Same seed, options and (to float32) inputs: the same region. (2-7 of 642 vertices used to
+    # Same options and (to float32) inputs: the same region. (2-7 of 642 vertices used to
     # differ: the operator passed its single-precision alpha, 0.33000001311302185; the add-on
     # now passes the decimal the property stands for, schema.option_values.)
     diff = int((direct != RESULT["selection"]).sum())
@@ -652,7 +651,7 @@ DECOYS = {
     "Decoy B": ([((0.0, 0.0, 1.0), 0.9, 0.05), ((0.0, 0.0, -1.0), 0.9, 0.05)], (0.8, 0.8, 1.2)),
 }
 #: Lighter than LIB_OPTIONS (three shapes per search; the right one still ranks first by a margin).
-SEARCH_OPTIONS = dict(k=6, centers=2, max_iterations=10, plane_cuts=2, resolution=0)
+SEARCH_OPTIONS = dict(k=6, max_iterations=10, plane_cuts=2, resolution=0)
 
 
 def decoy_meshes():

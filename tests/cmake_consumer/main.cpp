@@ -102,7 +102,7 @@ int main() {
 
     // Options by name (C++ and C), errors naming the option.
     dualspectra::Options opts;
-    opts.set("k", 6).set("centers", 1).set("max_iterations", 5).set("resolution", "0").set("plane_cuts", 2);
+    opts.set("k", 6).set("max_iterations", 5).set("resolution", "0").set("plane_cuts", 2);
     try {
       opts.set("k", 0);
       check(false, "k = 0 throws");

@@ -30,7 +30,7 @@ Cases (each one meshlabserver run):
                average inside the known region than outside.
   same-layer   the full layer picked twice: a clear message in the log, no crash.
   point-cloud  a partial layer without faces: a clear message in the log, no crash.
-  bad-k, bad-planes, bad-seed
+  bad-k, bad-planes, bad-threads
                an option out of range: the library's message naming it and its range, no crash.
   bad-enum     a choice index out of range: a clear message, no crash.
   fin          a non-manifold partial layer (the part with a fin: three triangles on one edge):
@@ -369,7 +369,7 @@ def main():
         for case, options, says in [
             ("bad-k", {"k": 0}, "k = 0 must be an integer in 1..=500"),
             ("bad-planes", {"plane_cuts": 27}, "plane_cuts = 27 must be an integer in 0..=26"),
-            ("bad-seed", {"seed": -1}, "seed = -1 must be an integer in 0..="),
+            ("bad-threads", {"threads": -1}, "threads = -1 must be an integer in 0..=256"),
             ("bad-enum", {"mode": 7}, "mode: choice 7 is out of range (3 choices: dual, lbo, si)"),
         ]:
             if not wanted(case):
@@ -416,7 +416,7 @@ def main():
         if wanted("rank"):
             print("case rank: partial.off against a library of three layers (full.off is the second)")
             library = [os.path.join(work, n) for n in ("other_ellipsoid.off", "full.off", "other_bumps.off")]
-            status, text, out = run_server(server, work, "rank", library + [partial], mlx(rank_call(schema, 3, k=args.k, centers=2)),
+            status, text, out = run_server(server, work, "rank", library + [partial], mlx(rank_call(schema, 3, k=args.k)),
                                            save_mask=["vf", "sa"], timeout=args.timeout, save_layer=1)
             no_crash(checks, "rank", status, text)
             ok = status == 0 and out is not None and os.path.exists(out)

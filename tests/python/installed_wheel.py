@@ -22,7 +22,7 @@ hill = F[(np.hypot(x - 0.4, y)[F] < 0.5).all(axis=1)]
 used, G = np.unique(hill, return_inverse=True)
 P, G = V[used], G.reshape(-1, 3)
 
-found = ds.localize(V, F, P, G, k=6, centers=2, max_iterations=10)
+found = ds.localize(V, F, P, G, k=6, max_iterations=10)
 truth = np.zeros(len(V), dtype=bool)
 truth[used] = True
 iou = (found.region & truth).sum() / (found.region | truth).sum()

@@ -14,7 +14,7 @@ import dualspectra as ds
 
 from conftest import bumpy, cut
 
-QUICK = dict(k=6, centers=1, plane_cuts=2, max_iterations=8, resolution=0)
+QUICK = dict(k=6, plane_cuts=2, max_iterations=8, resolution=0)
 
 
 def _pair():  # type: ignore[no-untyped-def]

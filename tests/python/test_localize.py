@@ -22,8 +22,8 @@ from conftest import bumpy, cut
 
 import dualspectra as ds
 
-FAST: Dict[str, Any] = dict(k=10, centers=3, max_iterations=40, resolution=0)
-QUICK: Dict[str, Any] = dict(k=8, centers=1, plane_cuts=2, max_iterations=15, resolution=0)
+FAST: Dict[str, Any] = dict(k=10, max_iterations=40, resolution=0)
+QUICK: Dict[str, Any] = dict(k=8, plane_cuts=2, max_iterations=15, resolution=0)
 DEADLINE_S = 240.0  # the run is cancelled (and the test fails) past this, so CI cannot hang
 
 Pair = Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
@@ -79,7 +79,7 @@ def test_localize_finds_the_cut(pair: Pair) -> None:
     assert r.score.shape == r.potential.shape == (len(v),)
     print(f"[agreement] localize bumpy3 cut: IoU={iou(r.region, truth):.3f}, cost={r.cost:.3e}, {r.timings}")
     assert iou(r.region, truth) > 0.7
-    assert r.n_starts == len(r.candidates) == 3 * FAST["centers"] + 6 + 2, "3 per centre, 6 plane cuts by default, 2 descriptor starts"
+    assert r.n_starts == len(r.candidates) == 6 + 2, "6 plane cuts by default, 2 descriptor starts"
     assert 0 <= r.selected_start < r.n_starts
     chosen = r.candidates[r.selected_start]
     assert np.array_equal(chosen.region, r.region) and chosen.cost == r.cost
@@ -197,7 +197,7 @@ def test_options_schema_is_the_core_table() -> None:
             assert s["default"] in s["choices"]
         else:
             assert s["min"] <= s["default"] <= s["max"]
-    for removed in ("selection", "starts", "spectral_cuts", "finalists", "hessian"):
+    for removed in ("selection", "starts", "spectral_cuts", "finalists", "hessian", "centers", "seed"):
         assert removed not in names
     assert schema is not ds.options_schema(), "a new list on each call"
     assert all(f"            {n} (" in (ds.localize.__doc__ or "") for n in names), "the docstring lists the table"
@@ -210,7 +210,13 @@ def test_unknown_option_raises_naming_it(pair: Pair) -> None:
         ds.localize(v, f, pv, pf, kk=3)
     with pytest.raises(ValueError, match="unknown option 'centres'"):
         ds.Localizer(v, f, centres=3)
-    # The options removed from the core are unknown now, with the same clear message.
+    # The options removed in 0.3.0 say so, with the version.
+    for old in ("centers", "seed"):
+        with pytest.raises(ValueError, match=f"option '{old}' was removed in 0.3.0"):
+            ds.localize(v, f, pv, pf, **{old: 0})
+        with pytest.raises(ValueError, match=f"option '{old}' was removed"):
+            ds.Localizer(v, f, **{old: 1})
+    # Options removed before any release are unknown, with the same clear message.
     removed: Dict[str, Any] = {"selection": "gated", "starts": "gaussian", "spectral_cuts": 2}
     for old, value in removed.items():
         with pytest.raises(ValueError, match=f"unknown option '{old}'"):
@@ -223,7 +229,9 @@ def test_values_out_of_range_raise_naming_the_option(pair: Pair, spec: Dict[str,
     any work, with the core's message naming the option."""
     v, f = pair[0], pair[1]
     name = spec["name"]
-    if spec["type"] == "choice":
+    if spec["type"] == "choice" and spec.get("positive_number"):
+        bad = ["bogus", 0, -3]
+    elif spec["type"] == "choice":
         bad = ["bogus", 3]
     elif spec["type"] == "int":
         bad = [spec["min"] - 1, spec["max"] + 1, spec["default"] + 0.5]
@@ -237,8 +245,8 @@ def test_values_out_of_range_raise_naming_the_option(pair: Pair, spec: Dict[str,
 def test_option_values_convert_by_type(pair: Pair) -> None:
     v, f = pair[0], pair[1]
     # Integer-likes (``__index__``) and real numbers (``__float__``) convert too.
-    loc = ds.Localizer(v, f, k=np.int64(7), alpha=np.float32(0.5), mode="LBO", seed="12", resolution=0, centers=1)  # type: ignore[arg-type]
-    assert {k: loc.options[k] for k in ("k", "alpha", "mode", "seed")} == {"k": 7, "alpha": 0.5, "mode": "lbo", "seed": 12}
+    loc = ds.Localizer(v, f, k=np.int64(7), alpha=np.float32(0.5), mode="LBO", plane_cuts="12", resolution=0)  # type: ignore[arg-type]
+    assert {k: loc.options[k] for k in ("k", "alpha", "mode", "plane_cuts")} == {"k": 7, "alpha": 0.5, "mode": "lbo", "plane_cuts": 12}
     with pytest.raises(TypeError, match="option k: expected int, float or str, got NoneType"):
         ds.Localizer(v, f, k=None)  # type: ignore[arg-type]
     with pytest.raises(TypeError, match="option k"):
@@ -251,9 +259,9 @@ def test_plane_cuts_set_the_plane_starts(pair: Pair) -> None:
     v, f, pv, pf, _ = pair
     loc = ds.Localizer(v, f, **dict(QUICK, plane_cuts=0))
     r = loc.locate(pv, pf)
-    assert r.n_starts == 3 * QUICK["centers"] + 2 and not any(c.label.startswith("plane") for c in r.candidates)
+    assert r.n_starts == 2 and not any(c.label.startswith("plane") for c in r.candidates)
     r = ds.localize(v, f, pv, pf, **dict(QUICK, plane_cuts=5))
-    assert r.n_starts == 3 * QUICK["centers"] + 5 + 2
+    assert r.n_starts == 5 + 2
     assert sum(c.label.startswith("plane") for c in r.candidates) == 5
 
 

@@ -22,7 +22,7 @@ from conftest import bend, cut, figure
 import dualspectra as ds
 from dualspectra.batch import BatchMatch, search_batch
 
-LIGHT: Dict[str, Any] = dict(k=6, centers=2, plane_cuts=2, max_iterations=8, resolution=0)
+LIGHT: Dict[str, Any] = dict(k=6, plane_cuts=2, max_iterations=8, resolution=0)
 
 Mesh = Tuple[np.ndarray, np.ndarray]
 

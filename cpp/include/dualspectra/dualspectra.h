@@ -25,6 +25,8 @@
  *   ds_options *o; ds_options_create(&o); ds_options_set(o, "k", "10");  // names: ds_options_schema_json()
  *   ds_mesh *full, *part;                     // from a host's arrays: results in its numbering
  *   ds_mesh_create_from_host(xyz, nv, tri, nf, &full); ds_mesh_create_from_host(..., &part);
+ *   ds_mesh_read("part.ply", &part);          // or from a file (OFF, OBJ, PLY): ds_mesh_warning,
+ *                                             // ds_mesh_vertices, ds_mesh_faces
  *   ds_localizer *l; ds_localizer_create(full, o, NULL, NULL, &l);   // prepare the full mesh once
  *   ds_result *r; ds_localizer_locate(l, part, NULL, NULL, &r);     // per partial (thread-safe)
  *   uint8_t *mask = malloc(nv); ds_result_region(r, mask, nv);
@@ -487,6 +489,14 @@ ds_status ds_result_cost(const struct ds_result *result, double *out);
 // `result` any pointer (a handle argument, checked); `out` valid for one write.
 ds_status ds_result_confidence(const struct ds_result *result, double *out);
 
+// The factor the partial's coordinates were multiplied by: 1 with the option `scale` =
+// `same`, the given factor, or the estimate with `auto` (docs/algorithm.md, "The partial's
+// units").
+//
+// # Safety
+// `result` any pointer (a handle argument, checked); `out` valid for one write.
+ds_status ds_result_scale(const struct ds_result *result, double *out);
+
 // Vertices of the optimisation mesh this localization ran on: about the `resolution`
 // option, or twice that for a partial with holes (docs/algorithm.md, "A finer mesh for
 // partials with holes").
@@ -498,7 +508,7 @@ ds_status ds_result_optimisation_vertices(const struct ds_result *result, size_t
 // How similar the partial is to the full shape, from this localization: lower is more
 // similar, comparable between full shapes of different size and meshing (both shapes at
 // unit full-shape area), the score `ds_search` ranks by. The core's
-// `search::similarity_score_of`: the best partial fit (the mean distance from the partial's
+// `Localization::similarity_score`: the best partial fit (the mean distance from the partial's
 // SHOT descriptors to the nearest descriptor in a region) among the localization's candidate
 // regions (docs/algorithm.md, "Searching several full shapes"); `+inf` when unknown.
 //
@@ -605,6 +615,47 @@ const struct ds_result *ds_search_result_result(const struct ds_search_result *s
 // # Safety
 // `search` any pointer (a handle argument, checked).
 const char *ds_search_result_error(const struct ds_search_result *search, size_t rank);
+
+// Read a triangle mesh from an OFF, OBJ or PLY file (ASCII or binary; the format from the
+// extension, any case). On success `*out` receives a mesh handle, as from `ds_mesh_create`,
+// to release with `ds_mesh_destroy`; `ds_mesh_vertices` and `ds_mesh_faces` copy its arrays.
+//
+// Reading repairs what raw files hold, as the command line and Python's `read_mesh` do:
+// polygons are fan-triangulated; a triangle listed twice in opposite orientations (a
+// two-sided flap) is removed with the vertices only it used; non-manifold edges (in more
+// than two faces) and vertices (faces in several fans) are split, each extra fan getting a
+// copy of the vertex appended after the file's vertices. `ds_mesh_warning` then says what
+// was changed, naming the file (NULL if nothing): the mesh's vertex numbers are its own, not
+// the file's.
+//
+// Errors (the message names the file): `DS_IO` (the file cannot be read, is not a regular
+// file, or is not a mesh of its format: bad header, number or count, truncated, unknown
+// extension), `DS_INVALID_MESH` (index out of range, non-finite coordinate, no faces, a
+// zero-area face or one repeating a vertex, a vertex in no face), `DS_INVALID_ARGUMENT`
+// (NULL or empty path, NULL `out`), `DS_OUT_OF_MEMORY` (the memory reading needs, up to
+// four times the file's size, cannot be reserved).
+//
+// # Safety
+// `path` a NUL-terminated string (any bytes on Unix, as the file system takes them; UTF-8
+// elsewhere); `out` valid for writing one pointer.
+ds_status ds_mesh_read(const char *path, struct ds_mesh **out);
+
+// Copy the positions of the mesh the core works on, `x0 y0 z0 x1 ...`, into `xyz`
+// (`xyz_len == 3 * ds_mesh_n_used_vertices(mesh)`): for a mesh from `ds_mesh_read` or
+// `ds_mesh_create`, all its vertices (`ds_mesh_n_vertices`); from `ds_mesh_create_from_host`,
+// the used host vertices then the copies of split ones (`ds_mesh_used_vertices` maps them to
+// the host's).
+//
+// # Safety
+// `mesh` any pointer (a handle argument, checked); `xyz` valid for `xyz_len` writes.
+ds_status ds_mesh_vertices(const struct ds_mesh *mesh, double *xyz, size_t xyz_len);
+
+// Copy the triangles of the mesh the core works on, `i0 j0 k0 i1 ...` (0-based, into the
+// vertices of `ds_mesh_vertices`), into `tri` (`tri_len == 3 * ds_mesh_n_faces(mesh)`).
+//
+// # Safety
+// `mesh` any pointer (a handle argument, checked); `tri` valid for `tri_len` writes.
+ds_status ds_mesh_faces(const struct ds_mesh *mesh, uint32_t *tri, size_t tri_len);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -7,6 +7,7 @@
 //
 //   #include <dualspectra/dualspectra.hpp>
 //   dualspectra::Mesh full(V, F), part(Vp, Fp);          // std::vector<std::array<...,3>>
+//   dualspectra::Mesh scan = dualspectra::Mesh::read("scan.ply");  // or a file: OFF, OBJ, PLY
 //   dualspectra::Options opts;
 //   opts.set("k", 10).set("mode", "dual");                // names and ranges: Options::schema()
 //   dualspectra::Localization r = dualspectra::localize(full, part, opts);
@@ -64,7 +65,8 @@ class Error : public std::runtime_error {
 //    left-out vertices; a split vertex is in a region if any copy is, its curvature and
 //    score are its first copy's, its mass the sum over its copies. What cannot be used still
 //    throws Error(Status::InvalidMesh), with vertex and face numbers as the host's: an index
-//    out of range, a non-finite coordinate, no faces, every face degenerate.
+//    out of range, a non-finite coordinate, no faces, every face degenerate;
+//  - Mesh::read reads a file as the command line and Python's read_mesh do (below).
 class Mesh {
  public:
   // Flat arrays: positions[3*i + d], triangles[3*f + c].
@@ -78,6 +80,16 @@ class Mesh {
   static Mesh from_host(const std::vector<std::array<double, 3>>& vertices,
                         const std::vector<std::array<std::uint32_t, 3>>& faces);
 
+  // Read an OFF, OBJ or PLY file (ASCII or binary; the format from the extension). Polygons
+  // are fan-triangulated; a triangle listed twice in opposite orientations (a two-sided flap)
+  // is removed with the vertices only it used; non-manifold edges and vertices are split, the
+  // copies appended after the file's vertices. warning() then says so, naming the file: the
+  // mesh's numbering (vertices(), every per-vertex array) is its own, not the file's. Throws
+  // Error(Status::Io) when the file cannot be read or is not a mesh of its format, and
+  // Error(Status::InvalidMesh) for an index out of range, a non-finite coordinate, no faces,
+  // a zero-area face or a vertex in no face; the message names the file.
+  static Mesh read(const std::string& path);
+
   // Vertices in the host's numbering: the length of every per-vertex array.
   std::size_t n_vertices() const noexcept { return data_->n_vertices(); }
   // Faces used (for from_host: less those left out).
@@ -90,7 +102,8 @@ class Mesh {
   // copy of a split non-manifold vertex as its host vertex's index (so not increasing, and
   // repeated, when something was split); 0, 1, 2, ... for a strictly checked mesh.
   std::vector<std::uint32_t> used_vertices() const;
-  // What the intake left out or split, as a sentence ("" if nothing).
+  // What the intake left out or split, or reading the file repaired, as a sentence ("" if
+  // nothing).
   std::string warning() const;
 
   const detail::MeshData& data() const noexcept { return *data_; }
@@ -164,9 +177,12 @@ struct Localization {
   double confidence = 0.0;
   // How similar the partial is to the full shape (lower is more similar), comparable between
   // full shapes of different size and meshing: what search() ranks by. The core's
-  // search::similarity_score_of (the best partial fit among the candidate regions:
+  // Localization::similarity_score (the best partial fit among the candidate regions:
   // docs/algorithm.md, "Searching several full shapes"); +inf when unknown.
   double similarity_score = 0.0;
+  // The factor the partial's coordinates were multiplied by: 1 with the option scale "same",
+  // the given factor, or the estimate with "auto".
+  double scale = 1.0;
   // Vertices of the optimisation mesh used: about the resolution option, or twice that for a
   // partial with holes.
   std::size_t optimisation_vertices = 0;

@@ -6,6 +6,7 @@ mod commands;
 mod error;
 mod input;
 mod output;
+mod render;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -34,7 +35,7 @@ enum Command {
     Bench(commands::bench::Args),
     /// Dual ShapeDNA distances between shapes and their 2-D MDS embedding.
     Similarity(commands::similarity::Args),
-    /// Localize a procedural partial shape (no data needed) and score it.
+    /// Localize a procedural partial shape (no data needed), score it and draw it (demo.png).
     Demo(commands::demo::Args),
 }
 

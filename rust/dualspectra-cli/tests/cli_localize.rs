@@ -1,6 +1,6 @@
 //! End-to-end checks of `localize`, `bench`, `demo` and `similarity` through the binary,
 //! on the procedural pair that `dualspectra demo --out` writes (no data files needed).
-//! Light localizer settings (`--k 6 --centers 2 --iterations 30`) keep them fast; the
+//! Light localizer settings (`--k 6 --iterations 30`) keep them fast; the
 //! checks are on the output schema and the laws of the scores, not on a result value.
 
 mod common;
@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::OnceLock;
 
-const LIGHT: [&str; 6] = ["--k", "6", "--centers", "2", "--iterations", "30"];
+const LIGHT: [&str; 4] = ["--k", "6", "--iterations", "30"];
 
 fn tmp(name: &str) -> PathBuf {
     common::scratch("cli_localize", name)
@@ -24,11 +24,13 @@ fn demo_dir() -> &'static Path {
         let out = run(bin().args(["demo", "--quiet", "--out"]).arg(&d).args(LIGHT));
         let text = String::from_utf8_lossy(&out.stdout);
         assert!(text.contains("IoU"), "{text}");
+        assert!(text.contains("confidence"), "the demo's summary gives the confidence: {text}");
         for f in [
             "full.off",
             "partial.off",
             "region.ply",
             "ground_truth.ply",
+            "demo.png",
             "result.json",
             "dataset/null/figure.off",
         ] {
@@ -49,16 +51,18 @@ fn n_vertices_off(path: &Path) -> usize {
 fn localize_writes_the_json_schema_and_a_ply() {
     let d = demo_dir();
     let out_dir = tmp("localize");
-    let (json, ply) = (out_dir.join("r.json"), out_dir.join("r.ply"));
+    let (json, ply, png) = (out_dir.join("r.json"), out_dir.join("r.ply"), out_dir.join("r.png"));
     let out = run(bin()
         .args(["localize", "--quiet"])
         .arg(d.join("full.off"))
         .arg(d.join("partial.off"))
         .args(LIGHT)
-        .args(["--mode", "dual", "--seed", "3", "--json"])
+        .args(["--mode", "dual", "--json"])
         .arg(&json)
         .arg("--ply")
-        .arg(&ply));
+        .arg(&ply)
+        .arg("--png")
+        .arg(&png));
     let v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let n = n_vertices_off(&d.join("full.off"));
@@ -82,9 +86,8 @@ fn localize_writes_the_json_schema_and_a_ply() {
     assert!(summary.starts_with(&said), "{summary:?} does not start with {said:?}");
     assert!(v["seconds"].as_f64().unwrap() >= 0.0);
     assert_eq!(v["options"]["mode"], "dual");
-    assert_eq!(v["options"]["seed"], 3);
     assert_eq!(v["options"]["k"], 6);
-    assert_eq!(v["n_starts"], 14, "2 centres x 3 starts (balls-and-wide-bumps) + 6 plane cuts + 2 descriptor starts");
+    assert_eq!(v["n_starts"], 8, "6 plane cuts + 2 descriptor starts");
     assert!(v["timings"]["total"].as_f64().is_some());
     assert_eq!(v["eigenvalues_regular"].as_array().unwrap().len(), 6);
     assert_eq!(v["target_si"].as_array().unwrap().len(), 6);
@@ -96,6 +99,26 @@ fn localize_writes_the_json_schema_and_a_ply() {
             && head.contains("red"),
         "{head}"
     );
+    // The picture: a valid PNG, front and back side by side, the (non-empty) region in red.
+    let (w, h, rgb) = common::decode_png(&png);
+    assert!(w > 0 && h > 0 && rgb.len() == 3 * w * h);
+    assert!(common::red_pixels(&rgb, w, 0, w) > 0, "the region is drawn");
+}
+
+#[test]
+fn the_demo_picture_shows_the_found_and_the_true_region() {
+    // demo.png: two panels of one size (found | ground truth), each with region pixels, in
+    // proportion to the regions' sizes within a factor (both regions are most of the arm side).
+    let d = demo_dir();
+    let (w, _, rgb) = common::decode_png(&d.join("demo.png"));
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(d.join("result.json")).unwrap()).unwrap();
+    let found_vertices = v["region"].as_array().unwrap().len();
+    let (found, truth) = (common::red_pixels(&rgb, w, 0, w / 2), common::red_pixels(&rgb, w, w / 2, w));
+    assert!(found > 0 && truth > 0, "found {found}, true {truth} region pixels");
+    let pair = dualspectra::evaluation::synthetic::synthetic_pair(&Default::default()).unwrap();
+    let gt_vertices = pair.gt.iter().filter(|&&b| b).count();
+    let (pixel_ratio, vertex_ratio) = (found as f64 / truth as f64, found_vertices as f64 / gt_vertices as f64);
+    assert!((pixel_ratio / vertex_ratio).ln().abs() < 0.7, "pixels {pixel_ratio:.2} vs vertices {vertex_ratio:.2}");
 }
 
 /// `localize` on the demo pair with `--quiet` and `args`; the JSON it wrote.
@@ -122,15 +145,15 @@ fn localize_usage_error(args: &[&str]) -> String {
 #[test]
 fn every_library_option_is_a_flag_and_reaches_the_library() {
     // The flags are built from the library's option table: each option is recorded in the JSON
-    // with the value given; --plane-cuts and --centers change the number of starts (2 centres
-    // x 3 + 3 plane cuts + 2 descriptor starts); the older spelling --iterations still works.
+    // with the value given; --plane-cuts changes the number of starts (3 plane cuts + 2
+    // descriptor starts); the older spelling --iterations still works.
     let v = localize_demo_json(
         "localize-options",
-        &["--k", "6", "--centers", "2", "--iterations", "3", "--plane-cuts", "3", "--mode", "lbo", "--alpha", "0.5", "--threads", "2"],
+        &["--k", "6", "--iterations", "3", "--plane-cuts", "3", "--mode", "lbo", "--alpha", "0.5", "--threads", "2"],
     );
-    assert_eq!(v["n_starts"], 11);
+    assert_eq!(v["n_starts"], 5);
     let o = &v["options"];
-    assert_eq!((o["k"].as_u64(), o["centers"].as_u64(), o["max_iterations"].as_u64()), (Some(6), Some(2), Some(3)));
+    assert_eq!((o["k"].as_u64(), o["plane_cuts"].as_u64(), o["max_iterations"].as_u64()), (Some(6), Some(3), Some(3)));
     assert_eq!((o["mode"].as_str(), o["alpha"].as_f64(), o["threads"].as_u64()), (Some("lbo"), Some(0.5), Some(2)));
     assert!(v["eigenvalues_si"].as_array().unwrap().is_empty(), "lbo mode matches regular eigenvalues only");
     let help = String::from_utf8_lossy(&bin().args(["localize", "--help"]).output().unwrap().stdout).into_owned();
@@ -138,12 +161,16 @@ fn every_library_option_is_a_flag_and_reaches_the_library() {
         let flag = format!("--{}", spec.name.replace('_', "-"));
         assert!(help.contains(&flag), "{flag} missing from --help");
     }
-    // Out-of-range values are usage errors naming the option and its range; removed options
-    // are unknown flags.
+    // Out-of-range values are usage errors naming the option and its range; the library's
+    // removed options say so; options removed before any release are unknown flags.
     let err = localize_usage_error(&["--plane-cuts", "27"]);
     assert!(err.contains("plane_cuts = 27 must be an integer in 0..=26"), "{err}");
-    let err = localize_usage_error(&["--centers", "100000"]);
-    assert!(err.contains("centers") && err.contains("0..=64"), "{err}");
+    for (name, version, _) in dualspectra::localizer::REMOVED_OPTIONS {
+        let flag = format!("--{}", name.replace('_', "-"));
+        let err = localize_usage_error(&[&flag, "2"]);
+        assert!(err.contains(&format!("option '{name}' was removed in {version}")), "{flag}: {err}");
+        assert!(!help.contains(&flag), "{flag} is in --help");
+    }
     let err = localize_usage_error(&["--mode", "both"]);
     assert!(err.contains("dual") && err.contains("lbo"), "{err}");
     for removed in ["--selection", "--starts", "--spectral-cuts", "--finalists"] {
@@ -274,12 +301,30 @@ fn missing_file_and_empty_partial_are_one_line_errors() {
     );
 }
 
+/// A partial the localizer cannot use (closed: no Dirichlet spectrum; no interior vertex)
+/// is an input error (exit 3, README's table) on one line naming the partial's file, in
+/// `localize` and in `search`.
+#[test]
+fn unusable_partials_are_input_errors_naming_the_file() {
+    let dir = tmp("unusable_partials");
+    let full = demo_dir().join("full.off");
+    let closed = dir.join("closed_partial.off");
+    std::fs::copy(&full, &closed).unwrap();
+    let needle = format!("error: {}: the partial shape has no boundary (it is closed)", closed.display());
+    expect_failure(bin().args(["localize", "--quiet"]).args(LIGHT).arg(&full).arg(&closed), 3, &needle);
+    expect_failure(bin().args(["search", "--quiet"]).args(LIGHT).arg(&closed).arg(&full), 3, &needle);
+    let triangle = dir.join("one_triangle.off");
+    std::fs::write(&triangle, "OFF\n3 1 0\n0 0 0\n0.1 0 0\n0 0.1 0\n3 0 1 2\n").unwrap();
+    let needle = format!("error: {}: the partial shape has no interior vertex", triangle.display());
+    expect_failure(bin().args(["localize", "--quiet"]).args(LIGHT).arg(&full).arg(&triangle), 3, &needle);
+}
+
 #[test]
 fn bench_locates_two_partials_with_one_prepared_shape_as_localize_does() {
     // Two parts cut off one figure (the demo's cut and the opposite side): bench prepares the
     // figure once (its second pair reports no preparation time) and finds the same regions as
     // two separate `localize` runs.
-    use dualspectra::evaluation::datasets::write_shrec16_pair;
+    use dualspectra_lab::datasets::write_shrec16_pair;
     use dualspectra::evaluation::synthetic::{synthetic_pair, SyntheticParams};
     let root = tmp("bench-two");
     let dataset = root.join("dataset");
@@ -310,7 +355,7 @@ fn bench_all_runs_every_dev_set_layout_and_scores_one_pair_alike_in_each() {
     // The same full shape, partial and region written in the SHREC'16 layout (barycentric
     // ground truth) and the PFAUST layout (vertex ground truth): `bench --all` finds both
     // sets, and both score the pair identically (same meshes, same region).
-    use dualspectra::evaluation::datasets::{write_shrec16_pair, Dataset};
+    use dualspectra_lab::datasets::{write_shrec16_pair, Dataset};
     use dualspectra::evaluation::synthetic::{synthetic_pair, SyntheticParams};
     let root = tmp("bench-all");
     let pair = synthetic_pair(&SyntheticParams { level: 3, ..SyntheticParams::default() }).unwrap();

@@ -12,7 +12,7 @@ use common::{bin, run};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
-const LIGHT: [&str; 8] = ["--k", "6", "--centers", "2", "--iterations", "10", "--threads", "2"];
+const LIGHT: [&str; 6] = ["--k", "6", "--iterations", "10", "--threads", "2"];
 
 fn tmp(name: &str) -> PathBuf {
     common::scratch("cli_search", name)
@@ -54,7 +54,9 @@ fn searched() -> &'static (String, Value, PathBuf) {
             .arg("--json")
             .arg(&json)
             .arg("--ply-dir")
-            .arg(out_dir.join("regions")));
+            .arg(out_dir.join("regions"))
+            .arg("--png")
+            .arg(out_dir.join("ranking.png")));
         (String::from_utf8_lossy(&out.stdout).into_owned(), read_json(&json), out_dir.join("regions"))
     })
 }
@@ -76,8 +78,8 @@ fn search_ranks_the_model_the_partial_was_cut_from_first() {
     let lines: Vec<&str> = stdout.lines().collect();
     assert!(lines[0].contains("rank") && lines[0].contains("score") && lines[0].contains("region") && lines[0].contains("confidence"), "{stdout}");
     assert!(lines[1].trim_start().starts_with("1  figure.off"), "{stdout}");
-    assert_eq!(lines.len(), 5, "{stdout}");
-    assert!(lines[4].starts_with("3 shapes searched in"), "{stdout}");
+    assert_eq!(lines.len(), 6, "{stdout}");
+    assert!(lines[5].starts_with("3 shapes searched in"), "{stdout}");
     // The JSON: every shape searched (the folder's meshes by name), the ranking with scores
     // ascending, and each region as sorted vertex indices of its file.
     let shapes: Vec<&str> = v["shapes"].as_array().unwrap().iter().map(|s| s.as_str().unwrap()).collect();
@@ -102,6 +104,14 @@ fn search_ranks_the_model_the_partial_was_cut_from_first() {
         let ply = std::fs::read(plys.join(format!("{}_{stem}.ply", i + 1))).unwrap();
         assert!(ply.starts_with(b"ply"));
     }
+    // The picture: a valid PNG with the three shapes in one row of equal cells, each with
+    // its region in red; stdout says what it shows.
+    let (w, _, rgb) = common::decode_png(&plys.with_file_name("ranking.png"));
+    let cell = w / 3;
+    for i in 0..3 {
+        assert!(common::red_pixels(&rgb, w, i * cell, (i + 1) * cell) > 0, "shape {} has no region pixel", i + 1);
+    }
+    assert!(stdout.contains("ranking.png: ranks 1 to 3"), "{stdout}");
 }
 
 #[test]

@@ -61,6 +61,9 @@
 
 #![allow(non_camel_case_types)]
 
+pub(crate) mod read;
+pub use read::{ds_mesh_faces, ds_mesh_read, ds_mesh_vertices};
+
 use crate::{metric_from_code, status_of, HostLocalizer, HostMesh};
 use dualspectra::{Error, Localization, Options, Progress};
 use std::cell::RefCell;
@@ -1383,6 +1386,17 @@ pub unsafe extern "C" fn ds_result_confidence(result: *const ds_result, out: *mu
     guard(|| unsafe { write_out(out, handle(result, "result")?.loc.confidence, "out") })
 }
 
+/// The factor the partial's coordinates were multiplied by: 1 with the option `scale` =
+/// `same`, the given factor, or the estimate with `auto` (docs/algorithm.md, "The partial's
+/// units").
+///
+/// # Safety
+/// `result` any pointer (a handle argument, checked); `out` valid for one write.
+#[no_mangle]
+pub unsafe extern "C" fn ds_result_scale(result: *const ds_result, out: *mut f64) -> ds_status {
+    guard(|| unsafe { write_out(out, handle(result, "result")?.loc.scale, "out") })
+}
+
 /// Vertices of the optimisation mesh this localization ran on: about the `resolution`
 /// option, or twice that for a partial with holes (docs/algorithm.md, "A finer mesh for
 /// partials with holes").
@@ -1397,7 +1411,7 @@ pub unsafe extern "C" fn ds_result_optimisation_vertices(result: *const ds_resul
 /// How similar the partial is to the full shape, from this localization: lower is more
 /// similar, comparable between full shapes of different size and meshing (both shapes at
 /// unit full-shape area), the score `ds_search` ranks by. The core's
-/// `search::similarity_score_of`: the best partial fit (the mean distance from the partial's
+/// `Localization::similarity_score`: the best partial fit (the mean distance from the partial's
 /// SHOT descriptors to the nearest descriptor in a region) among the localization's candidate
 /// regions (docs/algorithm.md, "Searching several full shapes"); `+inf` when unknown.
 ///
@@ -1405,7 +1419,7 @@ pub unsafe extern "C" fn ds_result_optimisation_vertices(result: *const ds_resul
 /// `result` any pointer (a handle argument, checked); `out` valid for one write.
 #[no_mangle]
 pub unsafe extern "C" fn ds_result_similarity_score(result: *const ds_result, out: *mut f64) -> ds_status {
-    guard(|| unsafe { write_out(out, dualspectra::search::similarity_score_of(&handle(result, "result")?.loc), "out") })
+    guard(|| unsafe { write_out(out, handle(result, "result")?.loc.similarity_score, "out") })
 }
 
 /// Total wall-clock seconds of the call that made the result.

@@ -12,7 +12,6 @@
 //! abort): a panic becomes an error with status `Panic`. Conversion only, no formula.
 
 use crate::{HostLocalizer, HostMesh};
-use dualspectra::search::similarity_score_of;
 use dualspectra::shape::Metric as CoreMetric;
 use dualspectra::{Error, Localization, Options, Progress};
 use std::cell::Cell;
@@ -74,6 +73,8 @@ pub mod ffi {
         cost: f64,
         confidence: f64,
         similarity_score: f64,
+        /// The factor the partial was multiplied by (`Localization::scale`).
+        scale: f64,
         optimisation_vertices: usize,
         selected_start: usize,
         n_starts: usize,
@@ -109,6 +110,9 @@ pub mod ffi {
 
         fn mesh_from_arrays(positions: &[f64], triangles: &[u32]) -> Result<Box<MeshData>>;
         fn mesh_from_host(positions: &[f64], triangles: &[u32]) -> Result<Box<MeshData>>;
+        /// A mesh file (OFF, OBJ, PLY) read and repaired as the core reads it; `path`: the file
+        /// name's bytes (any bytes on Unix).
+        fn mesh_read(path: &[u8]) -> Result<Box<MeshData>>;
         /// Vertices in the host's numbering (the length of every per-vertex array).
         fn n_vertices(self: &MeshData) -> usize;
         /// Faces used.
@@ -119,7 +123,7 @@ pub mod ffi {
         fn triangles(self: &MeshData) -> &[u32];
         /// Host index of each used vertex.
         fn used_vertices(self: &MeshData) -> Vec<u32>;
-        /// What the intake left out ("" if nothing).
+        /// What the intake left out, or reading the file repaired ("" if nothing).
         fn warning(self: &MeshData) -> String;
 
         /// The localizer's options (the core's `Options`).
@@ -184,8 +188,9 @@ pub mod ffi {
 unsafe impl Sync for ffi::ProgressSink {}
 unsafe impl Send for ffi::ProgressSink {}
 
-/// The payload of the C++ `detail::MeshData`.
-pub struct MeshData(HostMesh);
+/// The payload of the C++ `detail::MeshData`: the mesh, and what reading its file repaired
+/// (`None` for a mesh from arrays, or a file read as it was).
+pub struct MeshData(HostMesh, Option<String>);
 
 /// The payload of the C++ `detail::OptionsData`.
 pub struct OptionsData(Options);
@@ -244,11 +249,18 @@ fn guarded_value<T>(fallback: impl FnOnce() -> T, body: impl FnOnce() -> T) -> T
 }
 
 fn mesh_from_arrays(positions: &[f64], triangles: &[u32]) -> Result<Box<MeshData>, BridgeError> {
-    guarded(|| Ok(Box::new(MeshData(HostMesh::strict(positions, triangles)?))))
+    guarded(|| Ok(Box::new(MeshData(HostMesh::strict(positions, triangles)?, None))))
 }
 
 fn mesh_from_host(positions: &[f64], triangles: &[u32]) -> Result<Box<MeshData>, BridgeError> {
-    guarded(|| Ok(Box::new(MeshData(HostMesh::from_host(positions, triangles)?))))
+    guarded(|| Ok(Box::new(MeshData(HostMesh::from_host(positions, triangles)?, None))))
+}
+
+fn mesh_read(path: &[u8]) -> Result<Box<MeshData>, BridgeError> {
+    guarded(|| {
+        let (mesh, note) = crate::c_abi::read::read_mesh_file(&crate::path_of(path, "the path")?)?;
+        Ok(Box::new(MeshData(mesh, note)))
+    })
 }
 
 impl MeshData {
@@ -268,7 +280,7 @@ impl MeshData {
         guarded_value(Vec::new, || self.0.used_vertices())
     }
     fn warning(&self) -> String {
-        guarded_value(String::new, || self.0.host_map().warning("mesh").unwrap_or_default())
+        guarded_value(String::new, || self.1.clone().or_else(|| self.0.host_map().warning("mesh")).unwrap_or_default())
     }
 }
 
@@ -451,7 +463,7 @@ fn default_alpha() -> f64 {
 }
 
 fn localization_data(loc: Localization) -> ffi::LocalizationData {
-    let similarity_score = similarity_score_of(&loc);
+    let similarity_score = loc.similarity_score;
     let t = &loc.timings;
     let timings = ffi::Timings {
         preparation: t.preparation,
@@ -472,6 +484,7 @@ fn localization_data(loc: Localization) -> ffi::LocalizationData {
         target_si: loc.target_si,
         cost: loc.cost,
         confidence: loc.confidence,
+        scale: loc.scale,
         similarity_score,
         optimisation_vertices: loc.optimisation_vertices,
         selected_start: loc.selected_start,

@@ -37,12 +37,14 @@ pub(crate) struct HostMesh {
     shape: Shape,
     /// `None`: a strict mesh (the host's numbering is the mesh's).
     intake: Option<Arc<MeshIntake>>,
+    /// The intake's map back to the host's vertices (`None` with `intake`).
+    numbering: Option<Arc<HostNumbering>>,
 }
 
 impl HostMesh {
     /// A mesh checked strictly ([`TriMesh::from_flat`]).
     pub(crate) fn strict(xyz: &[f64], tri: &[u32]) -> Result<Self, Error> {
-        Ok(HostMesh { shape: Shape::new(TriMesh::from_flat(xyz, tri)?), intake: None })
+        Ok(HostMesh { shape: Shape::new(TriMesh::from_flat(xyz, tri)?), intake: None, numbering: None })
     }
 
     /// A host's arrays through the core intake ([`MeshIntake::from_flat`]): degenerate faces and
@@ -50,7 +52,8 @@ impl HostMesh {
     /// back in the host's numbering.
     pub(crate) fn from_host(xyz: &[f64], tri: &[u32]) -> Result<Self, Error> {
         let intake = MeshIntake::from_flat(xyz, tri)?;
-        Ok(HostMesh { shape: Shape::new(intake.mesh.clone()), intake: Some(Arc::new(intake)) })
+        let numbering = Some(Arc::new(intake.host_numbering()));
+        Ok(HostMesh { shape: Shape::new(intake.mesh.clone()), intake: Some(Arc::new(intake)), numbering })
     }
 
     /// The mesh the core works on.
@@ -74,10 +77,7 @@ impl HostMesh {
 
     /// The map of this mesh's results to the host's numbering.
     pub(crate) fn host_map(&self) -> HostMap {
-        match &self.intake {
-            Some(i) => HostMap::Intake(i.clone()),
-            None => HostMap::Identity,
-        }
+        HostMap { numbering: self.numbering.clone(), intake: self.intake.clone() }
     }
 
     /// Amounts at the host's indices, summed over a split vertex's copies
@@ -110,61 +110,41 @@ impl HostMesh {
 }
 
 /// How per-vertex results of one mesh go back to its host's numbering (cheap to clone: the
-/// map is shared).
-#[derive(Clone)]
-pub(crate) enum HostMap {
-    /// The host's numbering is the mesh's (a strict mesh).
-    Identity,
-    /// Through the core's intake, with its note on what it left out or split.
-    Intake(Arc<MeshIntake>),
-    /// A loaded prepared shape's numbering ([`Localizer::host_numbering`]); the intake's note
-    /// is not part of the file.
-    Loaded(Arc<HostNumbering>),
+/// map is shared): the core's [`HostNumbering`] (`None`: the host's numbering is the mesh's),
+/// and the intake whose note it carries (`None` for a strict mesh or a loaded shape, whose
+/// file keeps the numbering but not the note). The mapping rules are the core's.
+#[derive(Clone, Default)]
+pub(crate) struct HostMap {
+    numbering: Option<Arc<HostNumbering>>,
+    intake: Option<Arc<MeshIntake>>,
 }
 
 impl HostMap {
     /// `values` (one per mesh vertex) at the host's indices; `fill` at left-out vertices; a
-    /// split host vertex takes its first copy's value ([`MeshIntake::to_host`]).
+    /// split host vertex takes its first copy's value ([`HostNumbering::values_to_host`]).
     pub(crate) fn to_host<T: Clone>(&self, values: Vec<T>, fill: T) -> Vec<T> {
-        match self {
-            HostMap::Identity => values,
-            HostMap::Intake(i) => i.to_host(&values, fill),
-            HostMap::Loaded(h) => {
-                // As MeshIntake::to_host: backwards, so that the first copy is written last.
-                let mut out = vec![fill; h.n_host_vertices];
-                for (&host, v) in h.kept.iter().zip(values).rev() {
-                    out[host as usize] = v;
-                }
-                out
-            }
+        match &self.numbering {
+            None => values,
+            Some(h) => h.values_to_host(&values, fill),
         }
     }
 
-    /// A selection at the host's indices: a host vertex is selected if any of its copies is
-    /// ([`MeshIntake::to_host_any`], [`HostNumbering::region_to_host`]).
-    pub(crate) fn to_host_any(&self, selected: Vec<bool>) -> Vec<bool> {
-        match self {
-            HostMap::Identity => selected,
-            HostMap::Intake(i) => i.to_host_any(&selected),
-            HostMap::Loaded(h) => h.region_to_host(&selected),
+    /// A localization in the host's numbering ([`Localization::to_host`]).
+    fn localization_to_host(&self, loc: Localization) -> Localization {
+        match &self.numbering {
+            None => loc,
+            Some(h) => loc.to_host(h),
         }
     }
 
     /// Vertices in the host's numbering, for a mesh of `n_mesh` vertices.
     pub(crate) fn n_vertices(&self, n_mesh: usize) -> usize {
-        match self {
-            HostMap::Identity => n_mesh,
-            HostMap::Intake(i) => i.n_host_vertices,
-            HostMap::Loaded(h) => h.n_host_vertices,
-        }
+        self.numbering.as_ref().map_or(n_mesh, |h| h.n_host_vertices)
     }
 
     /// What the intake left out, as a sentence about `what` ("full mesh").
     pub(crate) fn warning(&self, what: &str) -> Option<String> {
-        match self {
-            HostMap::Intake(i) => i.warning(what),
-            HostMap::Identity | HostMap::Loaded(_) => None,
-        }
+        self.intake.as_ref().and_then(|i| i.warning(what))
     }
 }
 
@@ -181,9 +161,7 @@ impl HostLocalizer {
     /// loads with it ([`HostLocalizer::load`]).
     pub(crate) fn new(full: &HostMesh, options: &Options, progress: &Progress) -> Result<Self, Error> {
         let mut localizer = Localizer::with_progress(full.mesh(), options, progress)?;
-        if let Some(i) = &full.intake {
-            localizer.set_host_numbering(Some(HostNumbering { n_host_vertices: i.n_host_vertices, kept: i.kept.clone() }))?;
-        }
+        localizer.set_host_numbering(full.numbering.as_deref().cloned())?;
         Ok(HostLocalizer { localizer, full: full.host_map() })
     }
 
@@ -192,7 +170,7 @@ impl HostLocalizer {
     /// is an [`Error::PreparedShape`]).
     pub(crate) fn load(path: &Path) -> Result<Self, Error> {
         let localizer = Localizer::load(path)?;
-        let full = localizer.host_numbering().map_or(HostMap::Identity, |h| HostMap::Loaded(Arc::new(h.clone())));
+        let full = HostMap { numbering: localizer.host_numbering().cloned().map(Arc::new), intake: None };
         Ok(HostLocalizer { localizer, full })
     }
 
@@ -245,17 +223,10 @@ pub(crate) fn localize(full: &HostMesh, partial: &HostMesh, options: &Options, p
     Ok(to_host(loc, &full.host_map(), &partial.host_map()))
 }
 
-/// A result's per-vertex arrays (region, score, potential, the candidates' regions) in the
-/// host's numbering of the full mesh, and the intakes' notes first among its warnings. A
-/// split host vertex is in a region if any copy is; its score and potential are its first
-/// copy's.
-fn to_host(mut loc: Localization, full: &HostMap, partial: &HostMap) -> Localization {
-    loc.region = full.to_host_any(std::mem::take(&mut loc.region));
-    loc.score = full.to_host(std::mem::take(&mut loc.score), 0.0);
-    loc.potential = full.to_host(std::mem::take(&mut loc.potential), 0.0);
-    for c in &mut loc.candidates {
-        c.region = full.to_host_any(std::mem::take(&mut c.region));
-    }
+/// A result in the host's numbering of the full mesh ([`Localization::to_host`]), with the
+/// intakes' notes first among its warnings.
+fn to_host(loc: Localization, full: &HostMap, partial: &HostMap) -> Localization {
+    let mut loc = full.localization_to_host(loc);
     let notes = full.warning("full mesh").into_iter().chain(partial.warning("partial mesh"));
     loc.warnings = notes.chain(std::mem::take(&mut loc.warnings)).collect();
     loc

@@ -250,14 +250,14 @@ fn options_json(o: &OptionsHandle) -> serde_json::Value {
 /// Few starts and iterations, no decimation: a fast localization.
 fn fast_options() -> OptionsHandle {
     let o = options_handle();
-    let json = CString::new(r#"{"k": 6, "centers": 2, "max_iterations": 10, "resolution": 0}"#).unwrap();
+    let json = CString::new(r#"{"k": 6, "max_iterations": 10, "resolution": 0}"#).unwrap();
     assert_eq!(unsafe { ds_options_set_json(o.0, json.as_ptr()) }, DS_OK, "{}", last_error());
     o
 }
 
 /// [`fast_options`] in the core.
 fn fast_core_options() -> dualspectra::Options {
-    dualspectra::Options { k: 6, centers: 2, max_iterations: 10, resolution: 0, ..Default::default() }
+    dualspectra::Options { k: 6, max_iterations: 10, resolution: 0, ..Default::default() }
 }
 
 #[test]
@@ -369,11 +369,13 @@ fn options_by_name_are_the_cores_and_errors_name_the_option() {
         ("k", "0", "k = 0 must be an integer in 1..=500"),
         ("k", "2.5", "k = 2.5"),
         ("k", "ten", "k = ten"),
-        ("centers", "65", "0..=64"),
+        ("plane_cuts", "27", "0..=26"),
         ("alpha", "nan", "alpha"),
         ("mode", "both", "one of dual, lbo, si"),
         ("resolution", "50", "too coarse"),
-        ("seed", "-1", "seed = -1"),
+        ("threads", "-1", "threads = -1"),
+        ("seed", "0", "option 'seed' was removed in 0.3.0"),
+        ("centers", "2", "option 'centers' was removed in 0.3.0"),
         ("selection", "gated", "unknown option 'selection'"),
     ] {
         assert_eq!(set(&o, name, value), DS_INVALID_ARGUMENT, "{name} = {value}");
@@ -381,17 +383,21 @@ fn options_by_name_are_the_cores_and_errors_name_the_option() {
     }
     assert_eq!(options_json(&o), json, "a refused value leaves the options unchanged");
     // JSON: all or none.
-    let good = CString::new(r#"{"plane_cuts": 14, "seed": "7"}"#).unwrap();
-    let bad = CString::new(r#"{"centers": 3, "max_iterations": 0}"#).unwrap();
+    let good = CString::new(r#"{"plane_cuts": 14, "max_iterations": "7"}"#).unwrap();
+    let bad = CString::new(r#"{"resolution": 300, "max_iterations": 0}"#).unwrap();
     let not_object = CString::new("[1, 2]").unwrap();
     let not_json = CString::new("{k: 1").unwrap();
     unsafe {
         assert_eq!(ds_options_set_json(o.0, good.as_ptr()), DS_OK, "{}", last_error());
         let json = options_json(&o);
-        assert_eq!((json["plane_cuts"].as_u64(), json["seed"].as_u64(), json["k"].as_u64()), (Some(14), Some(7), Some(12)));
+        assert_eq!((json["plane_cuts"].as_u64(), json["max_iterations"].as_u64(), json["k"].as_u64()), (Some(14), Some(7), Some(12)));
         assert_eq!(ds_options_set_json(o.0, bad.as_ptr()), DS_INVALID_ARGUMENT);
         assert!(last_error().contains("max_iterations = 0"), "{}", last_error());
-        assert_eq!(options_json(&o)["centers"], json["centers"], "all or none");
+        assert_eq!(options_json(&o)["resolution"], json["resolution"], "all or none");
+        let removed = CString::new(r#"{"k": 8, "centers": 2}"#).unwrap();
+        assert_eq!(ds_options_set_json(o.0, removed.as_ptr()), DS_INVALID_ARGUMENT);
+        assert!(last_error().contains("option 'centers' was removed"), "{}", last_error());
+        assert_eq!(options_json(&o), json, "all or none");
         assert_eq!(ds_options_set_json(o.0, not_object.as_ptr()), DS_INVALID_ARGUMENT);
         assert!(last_error().contains("JSON object"), "{}", last_error());
         assert_eq!(ds_options_set_json(o.0, not_json.as_ptr()), DS_INVALID_ARGUMENT);

@@ -39,10 +39,10 @@ fn mesh(m: &TriMesh) -> *mut ds_mesh {
     h
 }
 
-/// Few starts (2 centres, 2 plane cuts) and iterations, two threads.
+/// Few starts (2 plane cuts, 2 descriptor starts) and iterations, two threads.
 fn light_options() -> *mut ds_options {
     let mut o = ptr::null_mut();
-    let json = CString::new(r#"{"k": 6, "centers": 2, "max_iterations": 8, "plane_cuts": 2, "threads": 2}"#).unwrap();
+    let json = CString::new(r#"{"k": 6, "max_iterations": 8, "plane_cuts": 2, "threads": 2}"#).unwrap();
     unsafe {
         assert_eq!(ds_options_create(&mut o), DS_OK);
         assert_eq!(ds_options_set_json(o, json.as_ptr()), DS_OK, "{}", last_error());

@@ -254,7 +254,7 @@ fn hostile_10_results_a_ranking_owns_are_borrowed_not_released() {
     .0;
     let (hf, hp) = (create(&full), create(&cap));
     let o = create_options();
-    let json = CString::new(r#"{"k": 6, "centers": 1, "max_iterations": 5, "resolution": 0}"#).unwrap();
+    let json = CString::new(r#"{"k": 6, "max_iterations": 5, "resolution": 0}"#).unwrap();
     let (mut l, mut s) = (ptr::null_mut(), ptr::null_mut());
     unsafe {
         assert_eq!(ds_options_set_json(o, json.as_ptr()), DS_OK, "{}", last_error());

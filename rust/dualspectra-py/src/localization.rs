@@ -4,8 +4,9 @@
 //!
 //! Both meshes enter through the core's `MeshIntake`; the full mesh's numbering (the
 //! intake's `kept` map, a `HostNumbering`) stays with the prepared shape, in memory and in
-//! its file, and every per-vertex result leaves through it (regions: selected if any copy of
-//! a split non-manifold vertex is; values: the first copy's), so it is indexed by the
+//! its file, and every per-vertex result leaves through it (the core's
+//! `Localization::to_host`: regions hold a split non-manifold vertex if any copy is; values
+//! are the first copy's), so it is indexed by the
 //! caller's vertices (vertices the intake dropped read `False` / `0.0`), and the intake's
 //! notes lead the warnings.
 
@@ -24,7 +25,7 @@ use std::path::PathBuf;
 /// One optimised start of a localization.
 #[pyclass(frozen, module = "dualspectra", name = "Candidate")]
 pub struct Candidate {
-    /// Where it started: `ball@c`, `coball@c`, `bump@c/sigma1`, `planeJ` or `given#i`.
+    /// Where it started: `planeJ`, `descriptor-fit`, `descriptor-vote` or `given#i`.
     #[pyo3(get)]
     label: String,
     /// Final alignment cost.
@@ -87,9 +88,13 @@ pub struct Localization {
     #[pyo3(get)]
     confidence: f64,
     /// The core's similarity score of the partial to the full shape (lower is more similar;
-    /// `dualspectra::search::similarity_score_of`).
+    /// `dualspectra::Localization::similarity_score`).
     #[pyo3(get)]
     similarity_score: f64,
+    /// The factor the partial's coordinates were multiplied by (1 with ``scale="same"``, the
+    /// estimate with ``scale="auto"``; `dualspectra::Localization::scale`).
+    #[pyo3(get)]
+    scale: f64,
     /// Vertices of the optimisation mesh used (about twice the `resolution` option for a
     /// partial with holes).
     #[pyo3(get)]
@@ -153,37 +158,14 @@ impl Localization {
     }
 }
 
-/// The caller's numbering of an intake's mesh.
-fn host_of(intake: &MeshIntake) -> HostNumbering {
-    HostNumbering { n_host_vertices: intake.n_host_vertices, kept: intake.kept.clone() }
-}
-
-/// The numbering of a mesh given as it is (nothing dropped or split).
-fn identity(n_vertices: usize) -> HostNumbering {
-    HostNumbering { n_host_vertices: n_vertices, kept: (0..n_vertices as u32).collect() }
-}
-
-/// Per-vertex `values` of the mesh at the caller's vertices: a split vertex takes its first
-/// copy's value (as `MeshIntake::to_host`), `0.0` where the intake dropped a vertex.
-fn values_to_host(host: &HostNumbering, values: &[f64]) -> Vec<f64> {
-    let mut out = vec![0.0; host.n_host_vertices];
-    // Backwards, so that the first copy is written last.
-    for (&h, &v) in host.kept.iter().zip(values).rev() {
-        out[h as usize] = v;
-    }
-    out
-}
-
 impl Localization {
     /// The core's result on the full shape's mesh, its per-vertex arrays brought back to the
     /// caller's vertices (`host`); `notes` (the intakes' warnings) go before the core's
     /// warnings.
     pub(crate) fn new(py: Python<'_>, r: dualspectra::Localization, host: &HostNumbering, notes: Vec<String>) -> PyResult<Self> {
-        let similarity_score = dualspectra::search::similarity_score_of(&r);
+        let r = r.to_host(host);
         let arr = |v: Vec<f64>| PyArray1::from_vec(py, v).unbind();
-        // A split (non-manifold) vertex is selected if any copy is; values are its first copy's.
-        let mask = |v: &[bool]| PyArray1::from_vec(py, host.region_to_host(v)).unbind();
-        let region = host.region_to_host(&r.region);
+        let region = r.region;
         let candidates = r
             .candidates
             .into_iter()
@@ -201,7 +183,7 @@ impl Localization {
                         iterations: c.iterations,
                         evaluations: c.evaluations,
                         n_selected: c.region.iter().filter(|&&b| b).count(),
-                        region: mask(&c.region),
+                        region: PyArray1::from_vec(py, c.region).unbind(),
                     },
                 )
             })
@@ -212,15 +194,16 @@ impl Localization {
             n_selected: region.iter().filter(|&&b| b).count(),
             n_vertices: region.len(),
             region: PyArray1::from_vec(py, region).unbind(),
-            score: arr(values_to_host(host, &r.score)),
-            potential: arr(values_to_host(host, &r.potential)),
+            score: arr(r.score),
+            potential: arr(r.potential),
             eigenvalues_regular: arr(r.eigenvalues_regular),
             eigenvalues_si: arr(r.eigenvalues_si),
             target_regular: arr(r.target_regular),
             target_si: arr(r.target_si),
             cost: r.cost,
             confidence: r.confidence,
-            similarity_score,
+            similarity_score: r.similarity_score,
+            scale: r.scale,
             optimisation_vertices: r.optimisation_vertices,
             selected_start: r.selected_start,
             n_starts: r.n_starts,
@@ -285,7 +268,7 @@ impl Localizer {
         if let Some(t) = threads {
             inner.set_threads(t).map_err(to_py)?;
         }
-        let host = inner.host_numbering().cloned().unwrap_or_else(|| identity(inner.n_vertices()));
+        let host = inner.host_numbering().cloned().unwrap_or_else(|| HostNumbering::identity(inner.n_vertices()));
         Ok(Localizer { inner, host, note })
     }
 }
@@ -305,10 +288,9 @@ impl Localizer {
         let options = options::from_kwargs(options)?;
         let full = intake("full mesh", &vertices, &faces)?;
         let mut inner = with_progress(py, progress, |p| dualspectra::Localizer::with_progress(&full.mesh, &options, p))?;
-        let host = host_of(&full);
+        let host = full.host_numbering();
         // Stored with the shape (saved files name the caller's vertices) unless it is the identity.
-        let same = host.n_host_vertices == host.kept.len() && host.kept.iter().enumerate().all(|(i, &k)| k as usize == i);
-        inner.set_host_numbering((!same).then(|| host.clone())).map_err(to_py)?;
+        inner.set_host_numbering((!host.is_identity()).then(|| host.clone())).map_err(to_py)?;
         Ok(Localizer { inner, host, note: full.warning("full mesh") })
     }
 
@@ -419,5 +401,5 @@ pub fn localize(
     let partial = intake("partial mesh", &partial_vertices, &partial_faces)?;
     let r = with_progress(py, progress, |p| dualspectra::localize(&full.mesh, &partial.mesh, &options, p))?;
     let notes = full.warning("full mesh").into_iter().chain(partial.warning("partial mesh")).collect();
-    Localization::new(py, r, &host_of(&full), notes)
+    Localization::new(py, r, &full.host_numbering(), notes)
 }

@@ -62,3 +62,12 @@ pub fn search(
         })
         .collect()
 }
+
+/// Native `rank`: positions of `(score, index)` pairs in the core's ranking order (lowest
+/// similarity score first, ties by index, `inf` last), the `top` best (all when `None`):
+/// `dualspectra::search::rank`, for rankings gathered outside `search` (`search_batch`).
+#[pyfunction]
+#[pyo3(signature = (scored, top=None))]
+pub fn rank(scored: Vec<(f64, usize)>, top: Option<usize>) -> Vec<usize> {
+    dualspectra::search::rank(&scored, top.unwrap_or(usize::MAX))
+}

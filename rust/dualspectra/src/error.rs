@@ -29,6 +29,19 @@ pub enum MeshError {
     NonManifoldVertex { vertex: usize, fans: usize },
     #[error("array length {len} is not a multiple of {stride}")]
     BadArrayLength { len: usize, stride: usize },
+    /// A partial shape must have a boundary: a closed surface has no Dirichlet spectrum.
+    #[error(
+        "the partial shape has no boundary (it is closed): there is no Dirichlet spectrum to match; \
+         compare whole shapes with the similarity tools instead"
+    )]
+    ClosedPartial,
+    /// A partial shape with more area than the full shape (after the `scale` option): it
+    /// cannot be a part of it. `hint` names the option when the units may differ.
+    #[error("the partial shape's area is {ratio:.3}x the full shape's: it cannot be a part of it{hint}")]
+    PartialLargerThanFull { ratio: f64, hint: &'static str },
+    /// A partial shape whose vertices are all on its boundary: its Dirichlet spectrum is empty.
+    #[error("the partial shape has no interior vertex (every vertex is on its boundary): its Dirichlet spectrum is empty")]
+    NoInteriorVertex,
 }
 
 /// Any error of the library.

@@ -2,7 +2,8 @@
 //! (docs/algorithm.md, "Searching several full shapes").
 //!
 //! The partial is located on every prepared full shape ([`Localizer::locate`]), and each
-//! localization is scored by [`similarity_score_of`], lower is more similar. Both shapes of
+//! localization's [`Localization::similarity_score`]
+//! ([`crate::selection::similarity_score`]) ranks it, lower is more similar. Both shapes of
 //! every pair are scaled so that the full shape has unit area, and the score is built from
 //! dimensionless quantities, so scores of full shapes of different size and meshing are
 //! compared directly; the ranking by score is the answer, best first.
@@ -16,38 +17,17 @@ use std::borrow::Borrow;
 
 /// One full shape's answer for a partial.
 #[derive(Debug, Clone, Serialize, Deserialize)]
+#[non_exhaustive]
 pub struct Match {
     /// Index of the full shape searched (in the slice, or as given to `open`).
     pub index: usize,
-    /// [`similarity_score_of`] the localization; lower is more similar; `+inf` when the
-    /// partial could not be located on this shape.
+    /// The localization's [`Localization::similarity_score`]; lower is more similar; `+inf`
+    /// when the partial could not be located on this shape.
     pub score: f64,
     /// The localization on this shape (`None` when it failed: see `error`).
     pub localization: Option<Localization>,
     /// Why the partial could not be located on this shape (e.g. it is larger than it).
     pub error: Option<String>,
-}
-
-/// The similarity score of a localization, lower is more similar: the best *partial fit*
-/// among its candidate regions $R$ (one per optimised start),
-/// $$s = \min_R p(R), \qquad p(R) = \frac{1}{|J|}\sum_{j \in J}\ \min_{i \in R} \lVert D_N(j) - D_M(i) \rVert,$$
-/// the mean distance from the partial's SHOT descriptors $D_N(j)$ (a sample $J$ of at most
-/// 1000 of its vertices) to the nearest descriptor $D_M(i)$ of the optimisation vertices in
-/// $R$ ([`crate::selection::partial_fits`]; docs/algorithm.md, "Searching several full
-/// shapes"). It asks whether some region the spectra led to holds every local shape of the
-/// partial. SHOT descriptors have unit norm and both shapes are scaled to unit full-shape
-/// area, so $s \in [0, \sqrt 2]$ compares across full shapes of any size and meshing (at the
-/// same `resolution`). It ranked best among the scores measured (the chosen region's fit,
-/// spectral misfits, the descriptor projection, the confidence, combinations):
-/// docs/benchmarks/search-2026-12-02.md. `+inf` when no candidate has a fit (empty regions).
-pub fn similarity_score_of(localization: &Localization) -> f64 {
-    localization
-        .candidates
-        .iter()
-        .filter_map(|c| c.scores.partial_fit)
-        .filter(|fit| fit.is_finite())
-        .fold(f64::INFINITY, f64::min)
-        .max(0.0)
 }
 
 /// Locate `partial` on every shape of `fulls` and rank them: the `top` best [`Match`]es
@@ -86,7 +66,7 @@ where
             shape.borrow().locate(partial, &part.sub(0.1, 1.0))
         };
         let m = match located {
-            Ok(localization) => Match { index, score: similarity_score_of(&localization), localization: Some(localization), error: None },
+            Ok(localization) => Match { index, score: localization.similarity_score, localization: Some(localization), error: None },
             Err(Error::Cancelled) => return Err(Error::Cancelled.into()),
             Err(e) => {
                 failures += 1;
@@ -96,7 +76,7 @@ where
             }
         };
         kept.push(m);
-        kept.sort_by(|a, b| a.score.total_cmp(&b.score).then(a.index.cmp(&b.index)));
+        kept.sort_by(|a, b| ranking_order((a.score, a.index), (b.score, b.index)));
         kept.truncate(top);
     }
     if failures == n {
@@ -106,4 +86,21 @@ where
     }
     progress.report(1.0, "searched")?;
     Ok(kept)
+}
+
+/// The order of a ranking of `(similarity score, full shape index)`: lowest score (most
+/// similar) first, ties by index; `+inf` (a shape not located) last ([`f64::total_cmp`]).
+fn ranking_order(a: (f64, usize), b: (f64, usize)) -> std::cmp::Ordering {
+    a.0.total_cmp(&b.0).then(a.1.cmp(&b.1))
+}
+
+/// Positions of `(similarity score, full shape index)` pairs in [`search`]'s ranking order
+/// (lowest score first, ties by index, `+inf` last), the `top` best (all when `top` is at
+/// least their number): for front ends that gather the scores themselves (a batch of
+/// searches split per full shape).
+pub fn rank(scored: &[(f64, usize)], top: usize) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..scored.len()).collect();
+    order.sort_by(|&a, &b| ranking_order(scored[a], scored[b]));
+    order.truncate(top);
+    order
 }

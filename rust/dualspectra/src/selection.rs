@@ -5,7 +5,8 @@
 //! projected on eigenfunctions, the paper's rule), its *partial fit* (every local shape of
 //! the partial found in the region), its *boundary misfit* (all lower-is-better) and its
 //! *vote share* (the partial's descriptor votes inside it, higher-is-better). The last four
-//! rank: [`choose`]; the region cost enters the [`confidence`].
+//! rank: [`choose`]; the region cost only decides which candidates are eligible. The
+//! [`confidence`] is $\sigma(b + a f)$ of the chosen candidate's partial fit $f$ alone.
 //!
 //! The descriptor score:
 //! $c_N = (\Psi^{\circ 2})^\top A_N D_N$ with $\Psi$ the first $k_d$ Dirichlet eigenfunctions of
@@ -47,6 +48,7 @@ pub fn descriptor_projection(vectors: MatRef<'_, f64>, mass: &[f64], desc: &Mat<
 
 /// The partial's projections, one per metric: its first [`PROJECTION_EIGENFUNCTIONS`]
 /// Dirichlet eigenfunctions solved here ([`signatures_from_spectra`] with nothing known).
+#[cfg_attr(not(feature = "lab"), allow(dead_code))] // used by the lab and the tests
 pub fn partial_signatures(
     partial: &Shape,
     desc: &Mat<f64>,
@@ -281,6 +283,7 @@ pub fn vote_shares(votes: &[f64], regions: &[&[bool]]) -> Result<Vec<f64>> {
 /// The scores of one candidate region (lower is better for each but the vote share; `None`:
 /// not computed).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[non_exhaustive]
 pub struct CandidateScore {
     /// Descriptor projection score ([`RegionScores::descriptors`]).
     pub descriptor_score: Option<f64>,
@@ -327,6 +330,7 @@ pub fn choose(scores: &[CandidateScore]) -> Option<usize> {
 /// How the starts agree with a choice, for studies (neither ranked results better than the
 /// partial fit alone: [`confidence`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(not(feature = "lab"), allow(dead_code))] // used by the lab and the tests
 pub struct Agreement {
     /// Fraction of the scored candidates (those with a region cost) whose region overlaps
     /// the chosen one's with IoU >= 0.5, the chosen one included.
@@ -338,10 +342,12 @@ pub struct Agreement {
 }
 
 /// Cap of [`Agreement::margin`].
+#[cfg_attr(not(feature = "lab"), allow(dead_code))] // used by the lab and the tests
 pub const MAX_MARGIN: f64 = 3.0;
 
 /// The [`Agreement`] of the starts with candidate `chosen` (`regions[i]` the region of
 /// candidate `i`). Consensus 0 and margin 0 when `chosen` is out of range.
+#[cfg_attr(not(feature = "lab"), allow(dead_code))] // used by the lab and the tests
 pub fn agreement(regions: &[&[bool]], scores: &[CandidateScore], chosen: usize) -> Agreement {
     let (Some(&mine), Some(own)) = (regions.get(chosen), scores.get(chosen)) else {
         return Agreement { consensus: 0.0, margin: 0.0 };
@@ -365,10 +371,31 @@ pub fn agreement(regions: &[&[bool]], scores: &[CandidateScore], chosen: usize) 
     Agreement { consensus, margin: if margin.is_nan() { 0.0 } else { margin } }
 }
 
+/// The similarity score of a localization, lower is more similar: the best *partial fit*
+/// among its candidate regions $R$ (one per optimised start),
+/// $$s = \min_R p(R), \qquad p(R) = \frac{1}{|J|}\sum_{j \in J}\ \min_{i \in R} \lVert D_N(j) - D_M(i) \rVert,$$
+/// the mean distance from the partial's SHOT descriptors $D_N(j)$ (a sample $J$ of at most
+/// 1000 of its vertices) to the nearest descriptor $D_M(i)$ of the optimisation vertices in
+/// $R$ ([`partial_fits`]; docs/algorithm.md, "Searching several full shapes"). It asks
+/// whether some region the spectra led to holds every local shape of the partial. SHOT
+/// descriptors have unit norm and both shapes are scaled to unit full-shape area, so
+/// $s \in [0, \sqrt 2]$ compares across full shapes of any size and meshing (at the same
+/// `resolution`). It ranked best among the scores measured (the chosen region's fit,
+/// spectral misfits, the descriptor projection, the confidence, combinations):
+/// docs/algorithm.md ("Why this score"). `+inf` when no candidate has a fit (empty regions).
+pub fn similarity_score(candidates: &[CandidateScore]) -> f64 {
+    candidates
+        .iter()
+        .filter_map(|c| c.partial_fit)
+        .filter(|fit| fit.is_finite())
+        .fold(f64::INFINITY, f64::min)
+        .max(0.0)
+}
+
 /// Weights of [`confidence`]: bias, partial fit (a logistic regression of "symmetry-aware
 /// IoU >= 0.5" over all 290 dev pairs: docs/benchmarks/confidence/fit_confidence.py; adding
 /// the margin to the best other answer, the region cost or the starts' consensus ranked worse,
-/// in sample and from one set to another: docs/benchmarks/real-partials-2026-12-03-s23.md).
+/// in sample and from one set to another: docs/benchmarks/options.md, "Confidence from the partial fit").
 const CONFIDENCE_WEIGHTS: [f64; 2] = [18.0881, -31.2701];
 
 /// How much to trust a chosen region, in [0, 1]: the estimated probability that its

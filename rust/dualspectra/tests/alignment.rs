@@ -2,7 +2,7 @@
 //! potential bounds of the tanh relaxation, Gauss-Newton model = finite-difference Hessian
 //! minus the eigenvalues' own curvature.
 
-use dualspectra::alignment::cost::{potential_from_w, AlignmentCost, SpectrumTerm};
+use dualspectra::lab::alignment::cost::{potential_from_w, AlignmentCost, SpectrumTerm};
 use dualspectra::mesh::generate::icosphere;
 use dualspectra::shape::{Metric, Shape};
 

@@ -254,7 +254,7 @@ fn peak_rss_kb() -> u64 {
 /// A time-bounded fuzz run per reader: mutated files (one to three mutations of a valid
 /// source) read until the time is up, with the properties of the test above. 5 s per
 /// reader by default; `DUALSPECTRA_FUZZ_SECONDS=600` for the long runs of
-/// docs/benchmarks/ (prints executions, outcomes, slowest case, peak memory).
+/// a study (prints executions, outcomes, slowest case, peak memory).
 #[test]
 fn issue23_fuzz_each_reader_for_a_bounded_time() {
     let seconds: f64 = std::env::var("DUALSPECTRA_FUZZ_SECONDS").ok().and_then(|s| s.parse().ok()).unwrap_or(5.0);

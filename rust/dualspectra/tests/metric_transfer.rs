@@ -4,9 +4,9 @@
 
 use dualspectra::geometry::metric::{scale_invariant_factor, transfer_factor, DEFAULT_ALPHA, DEFAULT_EPS};
 use dualspectra::geometry::smoothed_gaussian_curvature;
-use dualspectra::mesh::decimate::decimate;
+use dualspectra::lab::decimate::decimate;
 use dualspectra::mesh::generate::icosphere;
-use dualspectra::mesh::nearest::nearest_vertices;
+use dualspectra::lab::nearest::nearest_vertices;
 use dualspectra::operators::lumped_mass;
 use dualspectra::shape::{Metric, Shape};
 

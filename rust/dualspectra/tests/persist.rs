@@ -3,7 +3,7 @@
 //! truncated, corrupted, foreign and garbage files are clear errors, never a panic.
 
 use dualspectra::evaluation::synthetic::{synthetic_pair, SyntheticPair, SyntheticParams};
-use dualspectra::localizer::persist::{crc32, FORMAT_VERSION, MAGIC};
+use dualspectra::lab::persist::{crc32, FORMAT_VERSION, MAGIC};
 use dualspectra::localizer::HostNumbering;
 use dualspectra::{Error, Localization, Localizer, Options, Progress};
 use std::path::PathBuf;
@@ -12,7 +12,7 @@ use std::sync::OnceLock;
 /// Light settings; resolution 300 < 642 vertices, so the decimated path (transferred
 /// scale-invariant factor, keypoint descriptors) is what is stored.
 fn light() -> Options {
-    Options { k: 6, centers: 2, max_iterations: 8, plane_cuts: 2, resolution: 300, threads: 2, ..Options::default() }
+    Options { k: 6, max_iterations: 8, plane_cuts: 2, resolution: 300, threads: 2, ..Options::default() }
 }
 
 fn pair() -> &'static SyntheticPair {

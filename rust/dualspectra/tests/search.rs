@@ -4,14 +4,15 @@
 //! opened one at a time) answers as `search`.
 
 use dualspectra::evaluation::synthetic::{figure, horned_limbs, quadruped_limbs, synthetic_pair, SyntheticPair, SyntheticParams};
-use dualspectra::search::similarity_score_of;
+use dualspectra::lab::selection::similarity_score;
+use dualspectra::search::rank;
 use dualspectra::{search, search_with, Error, Localizer, Match, Options, Progress, TriMesh};
 use std::borrow::Borrow;
 use std::cell::Cell;
 use std::sync::OnceLock;
 
 fn light() -> Options {
-    Options { k: 6, centers: 2, max_iterations: 10, threads: 2, ..Options::default() }
+    Options { k: 6, max_iterations: 10, threads: 2, ..Options::default() }
 }
 
 fn pair() -> &'static SyntheticPair {
@@ -42,7 +43,7 @@ fn the_model_the_partial_was_cut_from_ranks_first() {
     assert!(found.windows(2).all(|w| w[0].score <= w[1].score), "{order:?}");
     for m in &found {
         let loc = m.localization.as_ref().expect("every shape located");
-        assert_eq!(m.score, similarity_score_of(loc));
+        assert_eq!(m.score, loc.similarity_score);
         // The score is the best candidate's partial fit: unit-norm descriptors, in [0, sqrt 2].
         let fits: Vec<f64> = loc.candidates.iter().filter_map(|c| c.scores.partial_fit).collect();
         assert!(fits.iter().all(|&f| m.score <= f) && fits.contains(&m.score), "{} against {fits:?}", m.score);
@@ -52,9 +53,14 @@ fn the_model_the_partial_was_cut_from_ranks_first() {
     // Unknown (no fit, no candidate): ranks last.
     let mut unknown = found[0].localization.clone().unwrap();
     unknown.candidates.iter_mut().for_each(|c| c.scores.partial_fit = None);
-    assert_eq!(similarity_score_of(&unknown), f64::INFINITY);
+    let scores = |l: &dualspectra::Localization| l.candidates.iter().map(|c| c.scores).collect::<Vec<_>>();
+    assert_eq!(similarity_score(&scores(&unknown)), f64::INFINITY);
     unknown.candidates.clear();
-    assert_eq!(similarity_score_of(&unknown), f64::INFINITY);
+    assert_eq!(similarity_score(&scores(&unknown)), f64::INFINITY);
+    // The ranking rule on its own (what front ends that gather scores call) gives this order.
+    let scored: Vec<(f64, usize)> = found.iter().rev().map(|m| (m.score, m.index)).collect();
+    let ranked: Vec<usize> = rank(&scored, 10).into_iter().map(|i| scored[i].1).collect();
+    assert_eq!(ranked, found.iter().map(|m| m.index).collect::<Vec<_>>());
     // Progress runs over the shapes, from 0 to 1.
     let seen = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
     let log = seen.clone();
@@ -144,4 +150,27 @@ fn search_with_opens_one_shape_at_a_time_and_answers_as_search() {
     let err = search_with(&pair().partial, 3, open, 2, &Progress::none()).unwrap_err();
     assert!(matches!(&err, Error::InvalidArgument(m) if m == "no shape 1"), "{err}");
     assert_eq!(calls, [0, 1]);
+}
+
+#[test]
+fn rank_orders_by_score_then_index_and_keeps_the_top() {
+    let inf = f64::INFINITY;
+    let scored = [(0.3, 4), (inf, 0), (0.1, 2), (0.3, 1), (0.2, 3)];
+    assert_eq!(rank(&scored, 10), [2, 4, 3, 0, 1], "lowest score first, ties by index, inf last");
+    assert_eq!(rank(&scored, 2), [2, 4]);
+    assert!(rank(&scored, 0).is_empty() && rank(&[], 3).is_empty());
+}
+
+#[test]
+fn a_localization_keeps_an_infinite_similarity_through_json() {
+    // serde_json writes +inf as null; it reads back as +inf.
+    let shapes: Vec<&Localizer> = library().iter().take(1).collect();
+    let mut loc = search(&pair().partial, &shapes, 1, &Progress::none()).unwrap().remove(0).localization.unwrap();
+    let back: dualspectra::Localization = serde_json::from_str(&serde_json::to_string(&loc).unwrap()).unwrap();
+    assert!((back.similarity_score - loc.similarity_score).abs() <= 4.0 * f64::EPSILON * loc.similarity_score, "a number stays one");
+    loc.similarity_score = f64::INFINITY;
+    let text = serde_json::to_string(&loc).unwrap();
+    assert!(text.contains("\"similarity_score\":null"), "{text}");
+    let back: dualspectra::Localization = serde_json::from_str(&text).unwrap();
+    assert_eq!(back.similarity_score, f64::INFINITY);
 }

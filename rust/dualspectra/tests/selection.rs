@@ -1,7 +1,7 @@
 //! Laws of the choice among candidate regions (selection) on an undeformed cut.
 
-use dualspectra::selection::{partial_signatures, selection_scores, signatures_from_spectra};
-use dualspectra::geometry::shot::{shot_descriptors, DEFAULT_MIN_NEIGHBORS, DEFAULT_RADIUS_FRACTION};
+use dualspectra::lab::selection::{partial_signatures, selection_scores, signatures_from_spectra};
+use dualspectra::lab::shot::{shot_descriptors, DEFAULT_MIN_NEIGHBORS, DEFAULT_RADIUS_FRACTION};
 use dualspectra::mesh::generate::icosphere;
 use dualspectra::shape::{Metric, Shape};
 use dualspectra::TriMesh;

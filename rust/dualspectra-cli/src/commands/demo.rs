@@ -3,16 +3,19 @@
 //! A self-contained run of the localizer, no data needed: builds the procedural articulated
 //! figure of `dualspectra::evaluation::synthetic` (2562 vertices), a copy with one arm bent
 //! (near-isometric) cut by a plane into a partial shape with exact ground truth, localizes
-//! the partial on the full figure (defaults lighter than `localize`: `--k 10 --centers 4`)
-//! and prints precision, recall and IoU against the ground
-//! truth. Writes into DIR (default `demo_out/`): `full.off`, `partial.off`, `region.ply`
-//! (full figure, region in red), `ground_truth.ply`, `result.json` (as `localize --json`),
-//! and `dataset/` (the pair in the SHREC'16 layout, for `dualspectra bench DIR/dataset`).
+//! the partial on the full figure with the same defaults as `localize` (every option flag
+//! applies) and prints precision, recall, IoU against the ground truth and the confidence.
+//! Writes into DIR (default `demo_out/`): `full.off`, `partial.off`, `region.ply` (full
+//! figure, region in red), `ground_truth.ply`, `demo.png` (the figure from the front and the
+//! back with the found region, beside the same views with the true one), `result.json` (as
+//! `localize --json`), and `dataset/` (the pair in the SHREC'16 layout, for
+//! `dualspectra bench DIR/dataset`).
 
 use super::localize::{localize_with_bar, write_region_ply, LocalizeOptions, Output};
 use crate::error::CliError;
 use crate::output::{to_json_line, write_text};
-use dualspectra::evaluation::datasets::write_shrec16_pair;
+use crate::render::{demo_picture, write_png};
+use dualspectra_lab::datasets::write_shrec16_pair;
 use dualspectra::evaluation::metrics::{area_scores, scores};
 use dualspectra::evaluation::synthetic::{synthetic_pair, SyntheticParams};
 use dualspectra::mesh::io::write_off;
@@ -39,8 +42,7 @@ fn out_err(e: dualspectra::Error) -> CliError {
 }
 
 pub fn run(args: Args) -> Result<(), CliError> {
-    // Lighter defaults than `localize` so the demo takes seconds: k = 10, 4 centres.
-    let options = args.options.to_options_from(dualspectra::Options { k: 10, centers: 4, ..Default::default() })?;
+    let options = args.options.to_options_from(dualspectra::Options::default())?;
     std::fs::create_dir_all(&args.out).map_err(|source| CliError::Output {
         path: args.out.clone(),
         source,
@@ -67,15 +69,18 @@ pub fn run(args: Args) -> Result<(), CliError> {
         100.0 * pair.partial.area() / pair.posed.area()
     );
     let (loc, seconds) =
-        localize_with_bar(&pair.full, &pair.partial, &options, args.quiet, "localize")?;
+        localize_with_bar((&pair.full, &full_path), (&pair.partial, &partial_path), &options, args.quiet, "localize")?;
     let s = scores(&loc.region, &pair.gt)?;
     let a = area_scores(&pair.full, &loc.region, &pair.gt)?;
     println!(
-        "localized in {seconds:.2} s ({} starts, mode {}): precision {:.3} recall {:.3} IoU {:.3} (area-weighted IoU {:.3})",
-        loc.n_starts, options.mode, s.precision, s.recall, s.iou, a.iou
+        "localized in {seconds:.2} s ({} starts, mode {}): precision {:.3} recall {:.3} IoU {:.3} (area-weighted IoU {:.3}), confidence {:.2}",
+        loc.n_starts, options.mode, s.precision, s.recall, s.iou, a.iou, loc.confidence
     );
     write_region_ply(&args.out.join("region.ply"), &pair.full, &loc.region)?;
     write_region_ply(&args.out.join("ground_truth.ply"), &pair.full, &pair.gt)?;
+    let found_caption = format!("found: IoU {:.2}, confidence {:.2}", s.iou, loc.confidence);
+    let picture = demo_picture(&pair.full, (&loc.region, &found_caption), (&pair.gt, "ground truth"))?;
+    write_png(&args.out.join("demo.png"), &picture)?;
     let json = to_json_line(&Output::new(
         &loc,
         &options,
@@ -85,7 +90,8 @@ pub fn run(args: Args) -> Result<(), CliError> {
     ))?;
     write_text(&args.out.join("result.json"), &json)?;
     println!(
-        "wrote {}/{{full.off, partial.off, region.ply, ground_truth.ply, result.json, dataset/}}",
+        "wrote {}/{{full.off, partial.off, region.ply, ground_truth.ply, demo.png, result.json, dataset/}}\n\
+         demo.png: the found region (left, front and back) and the true one (right), in red",
         args.out.display()
     );
     Ok(())

@@ -1,17 +1,19 @@
-//! `dualspectra localize FULL PARTIAL [--mode dual|lbo|si] [--k K] [--alpha A] [--seed N]
-//! [--json OUT] [--ply OUT]`
+//! `dualspectra localize FULL PARTIAL [--mode dual|lbo|si] [--k K] [--alpha A] [--plane-cuts N] [--scale S]
+//! [--json OUT] [--ply OUT] [--png OUT]`
 //!
 //! Finds the region of `FULL` that `PARTIAL` (a deformed, cut copy) corresponds to, with
 //! `dualspectra::localize` (docs/algorithm.md, whole pipeline). Writes the result as JSON
-//! (`region`: 0-based vertex indices of FULL; `confidence`; `cost`; `seconds`; `mode`;
+//! (`region`: 0-based vertex indices of FULL; `confidence`; `scale`; `cost`; `seconds`; `mode`;
 //! `optimisation_vertices`; `n_starts`; `timings`; the eigenvalues at the optimum and the partial's target spectra) to `OUT`
 //! with `--json`, else to standard output; `--ply` writes FULL with the region coloured
-//! (vertex colours). A progress bar runs on standard error.
+//! (vertex colours), `--png` a picture of FULL from the front and the back with the region
+//! in red. A progress bar runs on standard error.
 
 use crate::error::CliError;
 use crate::input::read_input_mesh;
 use crate::output::{check_output_path, to_json_line, write_text};
-use dualspectra::localizer::{OptionKind, OPTIONS};
+use crate::render::{region_picture, write_png};
+use dualspectra::localizer::{OptionKind, OPTIONS, REMOVED_OPTIONS};
 use dualspectra::{Localization, Localizer, Options, Progress, Timings, TriMesh};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
@@ -19,7 +21,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// The localizer's options shared by `localize` and `bench`: one flag per entry of the
-/// library's option table (`--name` with `-` for `_`), help, range and default from it.
+/// library's option table (`--name` with `-` for `_`), help, range and default from it. The
+/// library's removed options stay hidden flags, so that giving one is the library's error
+/// saying it was removed (not clap's "unexpected argument").
 #[derive(Debug, Clone, Default)]
 pub struct LocalizeOptions {
     /// The flags given, as (option name, text).
@@ -36,9 +40,10 @@ impl clap::FromArgMatches for LocalizeOptions {
         Ok(o)
     }
     fn update_from_arg_matches(&mut self, matches: &clap::ArgMatches) -> Result<(), clap::Error> {
-        for spec in OPTIONS {
-            if let Some(v) = matches.get_one::<String>(spec.name) {
-                self.given.push((spec.name, v.clone()));
+        let names = OPTIONS.iter().map(|s| s.name).chain(REMOVED_OPTIONS.iter().map(|r| r.0));
+        for name in names {
+            if let Some(v) = matches.get_one::<String>(name) {
+                self.given.push((name, v.clone()));
             }
         }
         Ok(())
@@ -48,12 +53,16 @@ impl clap::FromArgMatches for LocalizeOptions {
 impl clap::Args for LocalizeOptions {
     fn augment_args(cmd: clap::Command) -> clap::Command {
         let defaults = serde_json::to_value(Options::default()).unwrap_or_default();
+        let cmd = REMOVED_OPTIONS.iter().fold(cmd, |cmd, &(name, ..)| {
+            cmd.arg(clap::Arg::new(name).long(name.replace('_', "-")).hide(true).allow_negative_numbers(true))
+        });
         OPTIONS.iter().fold(cmd, |cmd, spec| {
             let default = defaults[spec.name].to_string().trim_matches('"').to_string();
             let range = match spec.kind {
                 OptionKind::Int { min, max } => format!("{min}..={max}"),
                 OptionKind::Float { min, max } => format!("{min}..={max}"),
                 OptionKind::Choice { choices } => choices.join(", "),
+                OptionKind::ChoiceOrPositive { choices, .. } => format!("{} or a positive number", choices.join(", ")),
             };
             let mut arg = clap::Arg::new(spec.name)
                 .long(spec.name.replace('_', "-"))
@@ -122,6 +131,10 @@ pub struct Args {
     /// Write FULL as PLY with the region coloured (red) and the rest grey.
     #[arg(long, value_name = "OUT")]
     pub ply: Option<PathBuf>,
+    /// Write a PNG picture of FULL, front and back (along its principal axes), with the
+    /// region in red.
+    #[arg(long, value_name = "OUT")]
+    pub png: Option<PathBuf>,
     /// Drop vertices that belong to no face instead of failing (indices then refer to the
     /// mesh after dropping).
     #[arg(long)]
@@ -138,6 +151,9 @@ pub struct Output<'a> {
     /// In [0, 1]: the estimated probability that the region overlaps the true one with
     /// IoU >= 0.5 ([`Localization::confidence`]).
     pub confidence: f64,
+    /// The factor the partial's coordinates were multiplied by ([`Localization::scale`]: 1 with
+    /// `--scale same`, the estimate with `--scale auto`).
+    pub scale: f64,
     pub cost: f64,
     pub seconds: f64,
     /// Every option the localizer ran with.
@@ -167,6 +183,7 @@ impl<'a> Output<'a> {
         Output {
             region: region_indices(&loc.region),
             confidence: loc.confidence,
+            scale: loc.scale,
             cost: loc.cost,
             seconds,
             options,
@@ -224,9 +241,11 @@ pub fn progress_bar(quiet: bool, prefix: &str) -> (ProgressBar, Progress) {
 }
 
 /// Run the localizer with a progress bar; returns the result and the wall-clock seconds.
+/// A mesh the localizer cannot use (a closed partial, ...) is an error naming its file
+/// (`full_path`, `partial_path`).
 pub fn localize_with_bar(
-    full: &TriMesh,
-    partial: &TriMesh,
+    (full, full_path): (&TriMesh, &Path),
+    (partial, partial_path): (&TriMesh, &Path),
     options: &Options,
     quiet: bool,
     prefix: &str,
@@ -234,7 +253,8 @@ pub fn localize_with_bar(
     let (bar, progress) = progress_bar(quiet, prefix);
     let t = Instant::now();
     let result = Localizer::with_progress(full, options, &progress.sub(0.0, 0.05))
-        .and_then(|localizer| localizer.locate(partial, &progress.sub(0.05, 1.0)));
+        .map_err(|e| e.in_file(full_path))
+        .and_then(|localizer| localizer.locate(partial, &progress.sub(0.05, 1.0)).map_err(|e| e.in_file(partial_path)));
     bar.finish_and_clear();
     Ok((result?, t.elapsed().as_secs_f64()))
 }
@@ -266,12 +286,13 @@ pub fn repair_warning(what: &str, report: &dualspectra::mesh::io::ReadReport) ->
 
 pub fn run(args: Args) -> Result<(), CliError> {
     let options = args.options.to_options()?;
-    for out in [&args.json, &args.ply].into_iter().flatten() {
+    for out in [&args.json, &args.ply, &args.png].into_iter().flatten() {
         check_output_path(out, &[&args.full, &args.partial])?;
     }
     let (full, full_report) = read_input_mesh(&args.full, args.drop_isolated)?;
     let (partial, partial_report) = read_input_mesh(&args.partial, args.drop_isolated)?;
-    let (mut loc, seconds) = localize_with_bar(&full, &partial, &options, args.quiet, "localize")?;
+    let (mut loc, seconds) =
+        localize_with_bar((&full, &args.full), (&partial, &args.partial), &options, args.quiet, "localize")?;
     let repairs: Vec<String> =
         [repair_warning("FULL", &full_report), repair_warning("PARTIAL", &partial_report)].into_iter().flatten().collect();
     loc.warnings.splice(0..0, repairs);
@@ -287,14 +308,28 @@ pub fn run(args: Args) -> Result<(), CliError> {
     if let Some(path) = &args.ply {
         write_region_ply(path, &full, &loc.region)?;
     }
+    if let Some(path) = &args.png {
+        let name = args.full.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let caption = format!(
+            "{name}: region {} of {} vertices, confidence {:.2}",
+            out.region.len(),
+            out.n_vertices_full,
+            loc.confidence
+        );
+        write_png(path, &region_picture(&full, &loc.region, &caption)?)?;
+    }
     for w in &loc.warnings {
         eprintln!("warning: {w}");
     }
     match &args.json {
         Some(path) => {
             write_text(path, &text)?;
+            let scale = match options.scale {
+                dualspectra::Scale::Auto => format!(", scale {:.4} (estimated)", loc.scale),
+                _ => String::new(),
+            };
             println!(
-                "region: {} of {} vertices, confidence {:.2}, cost {:.6e}, {:.2} s ({} starts)",
+                "region: {} of {} vertices, confidence {:.2}{scale}, cost {:.6e}, {:.2} s ({} starts)",
                 out.region.len(),
                 full_report.file_vertices,
                 loc.confidence,

@@ -11,7 +11,7 @@ use super::localize::{progress_bar, LocalizeOptions};
 use crate::error::CliError;
 use crate::input::read_input_mesh;
 use crate::output::check_output_path;
-use dualspectra::localizer::persist::EXTENSION;
+use dualspectra::localizer::EXTENSION;
 use dualspectra::localizer::HostNumbering;
 use dualspectra::mesh::io::ReadReport;
 use dualspectra::{Localizer, Options, Progress, TriMesh};

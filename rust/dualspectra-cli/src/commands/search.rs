@@ -1,15 +1,20 @@
-//! `dualspectra search PARTIAL FULL... [--top N] [--json OUT] [--ply-dir DIR] [localize options]`
+//! `dualspectra search PARTIAL FULL... [--top N] [--json OUT] [--ply-dir DIR] [--png OUT]
+//! [localize options]`
 //!
 //! Which of the full shapes is PARTIAL a part of, and where: the partial is located on each
 //! (`dualspectra::search_with`) and the shapes are ranked by the similarity score
-//! (`dualspectra::search::similarity_score_of`, lower is more similar; docs/algorithm.md,
+//! (`Localization::similarity_score`, lower is more similar; docs/algorithm.md,
 //! "Searching several full shapes"). A FULL may be a mesh (.off, .obj, .ply: prepared
 //! here with the options given), a prepared shape (.dsprep from `dualspectra prepare`:
 //! loaded, with the options it was prepared with), or a folder of these (its files, not
 //! its subfolders, by name). Prints a table (rank, shape, score, region size, confidence)
 //! of the `--top N` best (default: all); `--json` writes them with each region (0-based
 //! vertex indices of that FULL file), `--ply-dir` each one's FULL with its region in red
-//! (`<rank>_<name>.ply`). A progress bar runs over the shapes on standard error.
+//! (`<rank>_<name>.ply`), `--png` a picture of the ranking: the best shapes (at most
+//! [`PICTURE_SHAPES`]), each from the front and the back with its region, labelled with rank,
+//! name and score; the ranking rather than the best shape alone, so that the picture shows
+//! whether the best stands out and where the part would sit on the runners-up. A progress
+//! bar runs over the shapes on standard error.
 //!
 //! Shapes are opened (loaded or prepared) one at a time during the search and dropped after,
 //! so memory holds one prepared shape plus the kept localizations; the ranked shapes are
@@ -20,7 +25,8 @@ use super::prepare::{host_numbering, prepare_file};
 use crate::error::CliError;
 use crate::input::read_input_mesh;
 use crate::output::{check_output_path, print_stdout, to_json_line, write_text};
-use dualspectra::localizer::persist::EXTENSION;
+use crate::render;
+use dualspectra::localizer::EXTENSION;
 use dualspectra::localizer::HostNumbering;
 use dualspectra::{Localizer, Match, Options, Progress, TriMesh};
 use serde::Serialize;
@@ -45,6 +51,10 @@ pub struct Args {
     /// (DIR is created).
     #[arg(long, value_name = "DIR")]
     pub ply_dir: Option<PathBuf>,
+    /// Write a PNG picture of the ranking: the best shapes (at most 6), each from the front
+    /// and the back with its region in red, labelled with rank, name and score.
+    #[arg(long, value_name = "OUT")]
+    pub png: Option<PathBuf>,
     #[command(flatten)]
     pub options: LocalizeOptions,
     /// Drop vertices that belong to no face instead of failing.
@@ -54,6 +64,9 @@ pub struct Args {
     #[arg(long)]
     pub quiet: bool,
 }
+
+/// Shapes drawn by `--png` (the best ones): two rows of three.
+pub const PICTURE_SHAPES: usize = 6;
 
 /// Mesh and prepared-shape extensions a folder is searched for.
 const EXTENSIONS: [&str; 4] = ["off", "obj", "ply", EXTENSION];
@@ -172,7 +185,7 @@ pub fn run(args: Args) -> Result<(), CliError> {
     let paths = expand_fulls(&args.fulls)?;
     let mut inputs: Vec<&Path> = paths.iter().map(PathBuf::as_path).collect();
     inputs.push(&args.partial);
-    if let Some(out) = &args.json {
+    for out in [&args.json, &args.png].into_iter().flatten() {
         check_output_path(out, &inputs)?;
     }
     if let Some(dir) = &args.ply_dir {
@@ -216,13 +229,19 @@ pub fn run(args: Args) -> Result<(), CliError> {
     };
     let found = dualspectra::search_with(&partial, shapes.len(), open, args.top.unwrap_or(usize::MAX), &progress);
     bar.finish_and_clear();
-    let found: Vec<Match> = found?;
+    // The partial's own errors (a closed partial, ...) name its file.
+    let found: Vec<Match> = found.map_err(|e| match e {
+        CliError::Core(e) => CliError::Core(e.in_file(&args.partial)),
+        other => other,
+    })?;
     let seconds = t.elapsed().as_secs_f64();
     let mut ranking = Vec::new();
+    let mut drawn: Vec<(TriMesh, String)> = Vec::new();
     for (i, m) in found.iter().enumerate() {
         let shape = &shapes[m.index];
         let loc = m.localization.as_ref();
-        let full = reopen(&shape.path, args.drop_isolated, args.ply_dir.is_some() && loc.is_some())?;
+        let draw = args.png.is_some() && i < PICTURE_SHAPES;
+        let mut full = reopen(&shape.path, args.drop_isolated, draw || (args.ply_dir.is_some() && loc.is_some()))?;
         let (region, n_vertices) = match loc {
             Some(l) => full.file_region(&l.region),
             None => (Vec::new(), full.file_vertices()),
@@ -231,6 +250,10 @@ pub fn run(args: Args) -> Result<(), CliError> {
         if let (Some(dir), Some(l), Some(mesh)) = (&args.ply_dir, loc, &full.mesh) {
             let stem = Path::new(&shape.name).file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
             write_region_ply(&dir.join(format!("{rank}_{stem}.ply")), mesh, &l.region)?;
+        }
+        if let (true, Some(mesh)) = (draw, full.mesh.take()) {
+            let score = if m.score.is_finite() { format!("{:.2e}", m.score) } else { "failed".to_string() };
+            drawn.push((mesh, score));
         }
         ranking.push(Ranked {
             rank,
@@ -266,6 +289,25 @@ pub fn run(args: Args) -> Result<(), CliError> {
     let out = Output { partial: &args.partial, shapes: paths.iter().map(PathBuf::as_path).collect(), seconds, ranking };
     if let Some(path) = &args.json {
         write_text(path, &to_json_line(&out)?)?;
+    }
+    if let Some(path) = &args.png {
+        let pictured: Vec<render::Ranked> = drawn
+            .iter()
+            .zip(&found)
+            .enumerate()
+            .map(|(i, ((mesh, score), m))| render::Ranked {
+                label: format!("{}. {}", i + 1, shapes[m.index].name),
+                score: score.clone(),
+                mesh,
+                region: m.localization.as_ref().map(|l| l.region.as_slice()),
+            })
+            .collect();
+        render::write_png(path, &render::ranking_picture(&pictured)?)?;
+        table.push_str(&format!(
+            "{}: ranks 1 to {}, each from the front and the back, region in red\n",
+            path.display(),
+            pictured.len()
+        ));
     }
     table.push_str(&format!("{} shapes searched in {seconds:.2} s\n", paths.len()));
     print_stdout(&table)

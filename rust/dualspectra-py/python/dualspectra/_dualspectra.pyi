@@ -4,7 +4,7 @@ Arrays must already be contiguous float64 ``(n, 3)`` vertices and int64 ``(m, 3)
 (``dualspectra`` converts array-likes).
 """
 
-from typing import Any, Callable, Dict, List, Optional, Tuple, Union, final
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union, final
 
 import numpy as np
 from numpy.typing import NDArray
@@ -20,6 +20,7 @@ __all__ = [
     "Match",
     "localize",
     "search",
+    "rank",
     "options_schema",
     "cotangent_stiffness",
     "lumped_mass",
@@ -48,7 +49,7 @@ class Candidate:
 
     @property
     def label(self) -> str:
-        """Where it started: ``ball@c``, ``coball@c``, ``bump@c/sigma1``, ``planeJ`` or ``given#i``."""
+        """Where it started: ``planeJ``, ``descriptor-fit``, ``descriptor-vote`` or ``given#i``."""
     @property
     def cost(self) -> float:
         """Final alignment cost."""
@@ -111,9 +112,13 @@ class Localization:
         """How much to trust the region, in [0, 1]: the estimated probability that it overlaps
         the true region with IoU >= 0.5. Reject matches below a threshold of your choice."""
     @property
+    def scale(self) -> float:
+        """The factor the partial's coordinates were multiplied by: 1 with ``scale="same"``,
+        the given factor, or the estimate with ``scale="auto"``."""
+    @property
     def similarity_score(self) -> float:
         """How similar the partial is to this full shape, lower is more similar (``inf`` when
-        unknown, e.g. empty regions): the core's ``similarity_score_of``, the best partial fit
+        unknown, e.g. empty regions): the core's ``Localization::similarity_score``, the best partial fit
         among the candidate regions (the mean distance from the partial's SHOT descriptors to
         the nearest descriptor in a region; docs/algorithm.md, "Searching several full shapes").
         Dimensionless, computed at unit full-shape area: it compares across full shapes of
@@ -211,6 +216,7 @@ def search(
     top: Optional[int] = None,
     progress: _Progress = None,
 ) -> List[Match]: ...
+def rank(scored: Sequence[Tuple[float, int]], top: Optional[int] = None) -> List[int]: ...
 def options_schema() -> List[Dict[str, Any]]: ...
 def spectrum(
     vertices: NDArray[np.float64], faces: NDArray[np.int64], k: int, metric: str, alpha: float

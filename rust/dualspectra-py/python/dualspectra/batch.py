@@ -3,14 +3,15 @@ or on a Dask cluster (``dask.distributed``).
 
 The work is split per full shape: one task prepares a full shape once (or loads it, or
 receives it prepared) and locates on it every partial paired with it; the answers are then
-merged into one ranking per partial, by :attr:`~dualspectra.Localization.similarity_score`
-(lower is more similar), ties by the full shape's index, as :func:`dualspectra.search` ranks.
+merged into one ranking per partial by the core's ranking rule (the one
+:func:`dualspectra.search` uses: :attr:`~dualspectra.Localization.similarity_score`, lower is
+more similar, ties by the full shape's index).
 Every number comes from the core; this module only distributes the calls and sorts.
 
 ``client=None`` runs the tasks one after the other here, without importing Dask; a
 ``dask.distributed.Client`` runs them on its workers (each needs the ``dualspectra`` wheel
 installed; full shapes given as paths must be readable there). Both give the same results:
-the core is deterministic (same inputs, options and seed, same region and score) whatever
+the core is deterministic (same inputs and options, same region and score) whatever
 machine or process computes it.
 
 What travels: each partial once (``Client.scatter``); each full shape to its task, as
@@ -37,12 +38,10 @@ from typing import TYPE_CHECKING, Dict, Iterable, Iterator, List, Optional, Sequ
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from . import (
-    Cancelled,
+from . import _dualspectra
+from ._api import (
     DualspectraWarning,
     FullShape,
-    MeshError,
-    NumericalError,
     OptionValue,
     ProgressCallback,
     _check_fulls,
@@ -52,6 +51,7 @@ from . import (
     _prepared,
     _span,
 )
+from ._dualspectra import Cancelled, MeshError, NumericalError
 
 if TYPE_CHECKING:
     from distributed import Client
@@ -230,7 +230,7 @@ def search_batch(
     for matches in results:
         for m in matches:
             rankings[m.partial].append(m)
-    return [sorted(r, key=lambda m: (m.score, m.index))[:top] for r in rankings]
+    return [[r[i] for i in _dualspectra.rank([(m.score, m.index) for m in r], top)] for r in rankings]
 
 
 def _run_here(

@@ -115,9 +115,11 @@ impl<'a> AlignmentCost<'a> {
     pub fn n(&self) -> usize {
         self.shape.n_vertices()
     }
+    #[cfg_attr(not(feature = "lab"), allow(dead_code))] // used by the lab and the tests
     pub fn terms(&self) -> &[SpectrumTerm] {
         &self.terms
     }
+    #[cfg_attr(not(feature = "lab"), allow(dead_code))] // used by the lab and the tests
     pub fn dirichlet(&self) -> &Dirichlet {
         self.shape.dirichlet()
     }

@@ -2,5 +2,6 @@
 //! starting potentials (docs/algorithm.md, "Cost and gradient", "Optimisation", "Starts").
 
 pub mod cost;
+pub mod scale;
 pub mod starts;
 pub mod trust_region;

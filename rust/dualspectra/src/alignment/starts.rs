@@ -1,128 +1,15 @@
-//! Initial relaxed potentials $w_0$ (docs/algorithm.md, "Starts"): around farthest-point
-//! samples of the full shape, area-matched balls and a wide Gaussian bump; the sides of planes
+//! Initial relaxed potentials $w_0$ (docs/algorithm.md, "Starts"): the sides of planes
 //! normal to the principal axes; the regions whose SHOT descriptors the partial's resemble;
-//! and given regions $w_0 = 2 - 4 R_0$.
-//!
-//! With $g(x) = 1 - \exp(-|x - c|^2 / (2\sigma^2))$: $w_0 = g - 1/2$ opens a well (low
-//! potential, the candidate region) around $c$; $w_0 = 1/2 - g$ opens everything but $c$.
-
-/// Amplitude $a$ of the Gaussian starts, $w_0 = a(g - 1/2)$. The reference uses $a = 1$, whose
-/// "well" still holds $v \approx 0.54c \approx 27\mu_k$: the first tens of iterations only pull
-/// that potential down, and the Hamiltonian's eigenvalues start in a tight cluster that
-/// Krylov methods resolve slowly. With $a = 4$ the well is $v \approx 0.02c$ and the outside
-/// $v \approx 1.98c$: the start is the step potential of a candidate region.
-pub const START_AMPLITUDE: f64 = 4.0;
+//! and given regions; each a step $w_0 = 2 - 4 R_0$ (low potential, the candidate region, on
+//! the mask $R_0$).
 
 /// A starting point of the optimisation.
 #[derive(Debug, Clone)]
 pub struct Start {
     pub w0: Vec<f64>,
     pub label: String,
-    /// Kind of start ("well", "bump", "mask").
+    /// Kind of start ("well": a plane cut; "mask": a given or descriptor region).
     pub family: &'static str,
-}
-
-/// SplitMix64: a tiny deterministic generator for seeded choices (no global RNG).
-pub fn splitmix64(state: &mut u64) -> u64 {
-    *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    let mut z = *state;
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
-}
-
-fn dist2(a: [f64; 3], b: [f64; 3]) -> f64 {
-    (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)
-}
-
-/// `count` farthest-point samples (Euclidean), the first chosen by `seed`. Deterministic.
-pub fn farthest_point_samples(points: &[[f64; 3]], count: usize, seed: u64) -> Vec<usize> {
-    let n = points.len();
-    if n == 0 || count == 0 {
-        return Vec::new();
-    }
-    let mut state = seed;
-    let first = (splitmix64(&mut state) % n as u64) as usize;
-    let mut chosen = vec![first];
-    let mut d: Vec<f64> = points.iter().map(|&p| dist2(p, points[first])).collect();
-    while chosen.len() < count.min(n) {
-        let (next, _) = d.iter().enumerate().fold((0, -1.0), |acc, (i, &v)| if v > acc.1 { (i, v) } else { acc });
-        chosen.push(next);
-        for (di, &p) in d.iter_mut().zip(points) {
-            *di = di.min(dist2(p, points[next]));
-        }
-    }
-    chosen
-}
-
-/// The well $w_0 = a(g - 1/2)$ and the bump $w_0 = a(1/2 - g)$ of one Gaussian
-/// $g(x) = 1 - \exp(-|x - c|^2 / (2\sigma^2))$ of width `sigma` around centre `c`, labelled
-/// `well@{c}/sigma{width_index}` and `bump@{c}/sigma{width_index}`.
-pub fn gaussian_pair(points: &[[f64; 3]], c: usize, sigma: f64, width_index: usize) -> [Start; 2] {
-    let g: Vec<f64> = points.iter().map(|&p| 1.0 - (-dist2(p, points[c]) / (2.0 * sigma * sigma)).exp()).collect();
-    let a = START_AMPLITUDE;
-    [
-        Start { w0: g.iter().map(|x| a * (x - 0.5)).collect(), label: format!("well@{c}/sigma{width_index}"), family: "well" },
-        Start { w0: g.iter().map(|x| a * (0.5 - x)).collect(), label: format!("bump@{c}/sigma{width_index}"), family: "bump" },
-    ]
-}
-
-/// Amplitude of the area-matched starts, $w_0 = \pm 2 \tanh((d - r)/h)$: the same extremes
-/// as the Gaussian starts ($v \approx 0.04c$ inside, $1.96c$ outside).
-pub const BALL_AMPLITUDE: f64 = 2.0;
-
-/// Area-matched starts: for each centre $c$, with $d$ the edge-graph distance from $c$,
-/// - "ball": a well on the ball around $c$ whose area (sum of `mass`) is the partial's `area`:
-///   $w_0 = a \tanh((d - r)/h)$, $r$ the radius where the ball's area reaches `area`;
-/// - "coball": a well on everything but the ball of area $A_M - $ `area` around $c$ (the
-///   partial as what remains after cutting a piece off around $c$):
-///   $w_0 = -a \tanh((d - r')/h')$.
-///
-/// The transition width is $h = r/2$. By Weyl's law the Dirichlet eigenvalues of a region
-/// grow as $4\pi i / \text{area}$, so a start with the partial's area begins near the target
-/// spectrum's scale, where a Gaussian's 0.5-level set encloses ~4.4x (and, at $2\sigma$, ~17x)
-/// the partial's area on a flat patch.
-///
-/// `distances[i]`: the edge-graph distances from `centres[i]` ([`centre_distances`]).
-pub fn area_ball_starts(distances: &[Vec<f64>], mass: &[f64], centres: &[usize], area: f64) -> Vec<Start> {
-    let total: f64 = mass.iter().sum();
-    let mut out = Vec::with_capacity(2 * centres.len());
-    for (&c, d) in centres.iter().zip(distances) {
-        let mut order: Vec<usize> = (0..d.len()).collect();
-        order.sort_by(|&i, &j| d[i].total_cmp(&d[j]).then(i.cmp(&j)));
-        // Radius at which the ball around c reaches area `a` (the farthest reachable vertex's
-        // distance if it never does).
-        let radius = |a: f64| {
-            let mut acc = 0.0;
-            let mut r = 0.0;
-            for &i in &order {
-                if !d[i].is_finite() {
-                    break;
-                }
-                r = d[i];
-                acc += mass[i];
-                if acc >= a {
-                    break;
-                }
-            }
-            r
-        };
-        let min_positive = order.iter().map(|&i| d[i]).find(|&x| x > 0.0).unwrap_or(1.0);
-        let profile = |r: f64, sign: f64| -> Vec<f64> {
-            let h = 0.5 * r.max(min_positive);
-            d.iter().map(|&x| sign * BALL_AMPLITUDE * if x.is_finite() { ((x - r) / h).tanh() } else { 1.0 }).collect()
-        };
-        out.push(Start { w0: profile(radius(area), 1.0), label: format!("ball@{c}"), family: "well" });
-        out.push(Start { w0: profile(radius(total - area), -1.0), label: format!("coball@{c}"), family: "bump" });
-    }
-    out
-}
-
-/// Edge-graph distances from each centre to every vertex of `mesh` (infinite where
-/// unreachable): what [`area_ball_starts`] needs of the mesh, computed once per full shape.
-pub fn centre_distances(mesh: &crate::mesh::TriMesh, centres: &[usize]) -> Vec<Vec<f64>> {
-    let neighbors = crate::mesh::topology::vertex_neighbors(mesh);
-    centres.iter().map(|&c| crate::mesh::topology::edge_graph_distances(mesh, &neighbors, c)).collect()
 }
 
 /// Most plane-cut directions (see [`plane_cut_directions`]).
@@ -186,6 +73,7 @@ pub fn plane_cut_directions(points: &[[f64; 3]], mass: &[f64], count: usize) -> 
 /// side of a plane normal to $d$), $w_0 = 2 - 4 R_d$ (labels `plane{j}`). A partial cut off
 /// by one roughly planar cut through the body (a half, the front of a torso), which no ball
 /// around an extremity approximates, is one side of such a plane.
+#[cfg_attr(not(feature = "lab"), allow(dead_code))] // used by the lab and the tests
 pub fn plane_cut_starts(points: &[[f64; 3]], mass: &[f64], area: f64, count: usize) -> Vec<Start> {
     plane_cut_starts_from_heights(&plane_heights(points, mass, count), mass, area)
 }
@@ -349,6 +237,15 @@ pub fn mask_start(mask: &[bool], label: &str) -> Start {
 mod tests {
     use super::*;
     use crate::geometry::angles::{cross, dot};
+
+    /// SplitMix64: a tiny deterministic generator for the tests' random descriptors.
+    fn splitmix64(state: &mut u64) -> u64 {
+        *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = *state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
     #[test]
     fn descriptor_starts_find_the_region_whose_descriptors_the_partial_has() {
         // A 30 x 30 grid with random descriptors; the "partial" carries the descriptors of a
@@ -405,24 +302,6 @@ mod tests {
             m.push(d, i);
         }
         assert_eq!((m.d1, m.d2, m.vertex), (2.0, 3.0, 1));
-    }
-
-    #[test]
-    fn fps_is_deterministic_spread_and_distinct() {
-        let m = crate::mesh::generate::icosphere(3);
-        let a = farthest_point_samples(m.vertices(), 10, 7);
-        let b = farthest_point_samples(m.vertices(), 10, 7);
-        assert_eq!(a, b);
-        let mut s = a.clone();
-        s.sort();
-        s.dedup();
-        assert_eq!(s.len(), 10);
-        // On the unit sphere, 10 spread points are pairwise farther than 0.5.
-        for i in 0..10 {
-            for j in 0..i {
-                assert!(dist2(m.vertices()[a[i]], m.vertices()[a[j]]).sqrt() > 0.5);
-            }
-        }
     }
 
     /// Area of the vertices where `w0 < 0` (the start's well, `v < c`).
@@ -525,34 +404,4 @@ mod tests {
         assert!(a.iter().all(|&x| x * a[0] > 0.0) && b.iter().all(|&x| x * b[0] > 0.0) && a[0] * b[0] < 0.0);
         assert!(plane_cut_starts(pts, mass, 0.25 * total, 0).is_empty());
     }
-
-    #[test]
-    fn area_ball_starts_open_wells_of_the_partials_area() {
-        let shape = crate::shape::Shape::new(crate::mesh::generate::icosphere(4));
-        let mass = shape.mass();
-        let total: f64 = mass.iter().sum();
-        let centres = farthest_point_samples(shape.mesh().vertices(), 3, 1);
-        let max_mass = mass.iter().cloned().fold(0.0, f64::max);
-        for fraction in [0.1, 0.3, 0.7] {
-            let starts = area_ball_starts(&centre_distances(shape.mesh(), &centres), mass, &centres, fraction * total);
-            assert_eq!(starts.len(), 2 * centres.len());
-            for s in &starts {
-                // The well holds the partial's area, to within the ring of vertices at radius r
-                // (~ sqrt(n) vertices on a sphere of 2562).
-                let a = well_area(&s.w0, mass);
-                assert!(
-                    (a - fraction * total).abs() <= 60.0 * max_mass,
-                    "{}: well area {a} for target {}",
-                    s.label,
-                    fraction * total
-                );
-                assert!(s.w0.iter().all(|w| w.abs() <= BALL_AMPLITUDE));
-            }
-            // The ball's well is around its centre, the coball's away from it.
-            for (pair, &c) in starts.chunks(2).zip(&centres) {
-                assert!(pair[0].w0[c] < -1.9 && pair[1].w0[c] > 1.9);
-            }
-        }
-    }
 }
-

@@ -81,6 +81,7 @@ pub struct Point {
 
 impl Point {
     /// Value and gradient only (the model Hessian by finite differences).
+    #[cfg_attr(not(feature = "lab"), allow(dead_code))] // used by the lab and the tests
     pub fn new(cost: f64, gradient: Vec<f64>) -> Self {
         Point { cost, gradient, hessian: None }
     }

@@ -1,8 +1,8 @@
-//! Evaluation: region scores (precision, recall, IoU, cumulative IoU), benchmark dataset
-//! loading (SHREC'16 layout), spectral shape similarity (dual ShapeDNA + MDS, paper
-//! section 3) and a procedural articulated test pair with exact ground truth.
+//! Evaluation: region scores (precision, recall, IoU, cumulative IoU), spectral shape
+//! similarity (dual ShapeDNA + MDS, paper section 3) and a procedural articulated test pair
+//! with exact ground truth. (The benchmark datasets' layouts are in the `dualspectra-lab`
+//! crate.)
 
-pub mod datasets;
 pub mod metrics;
 pub mod similarity;
 pub mod synthetic;

@@ -17,10 +17,17 @@
 //!   identities, so the ground truth is exact: the full mesh's vertices it kept.
 
 use crate::error::{Error, Result};
-use crate::evaluation::datasets::BarycentricRow;
 use crate::mesh::{generate, topology, TriMesh};
 
 type V3 = [f64; 3];
+
+/// A point of a full shape as SHREC'16 ground truth gives it: a triangle (0-based) and
+/// barycentric weights in it (one row of a `.baryc_gt` file).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BarycentricRow {
+    pub triangle: u32,
+    pub weights: [f64; 3],
+}
 
 fn dot(a: V3, b: V3) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
@@ -244,6 +251,9 @@ pub struct SyntheticParams {
     /// The partial keeps the faces with centroid `c . cut_normal > cut_offset`.
     pub cut_normal: V3,
     pub cut_offset: f64,
+    /// Keeps the struct extensible (construct with `..Default::default()`).
+    #[doc(hidden)]
+    pub non_exhaustive: crate::NonExhaustive,
 }
 
 impl Default for SyntheticParams {
@@ -254,12 +264,14 @@ impl Default for SyntheticParams {
             bend: default_bend(),
             cut_normal: normalize([0.35, 0.15, 1.0]),
             cut_offset: -0.35,
+            non_exhaustive: crate::NonExhaustive::default(),
         }
     }
 }
 
 /// A full shape, its posed copy, and the partial cut from the posed copy.
 #[derive(Debug, Clone)]
+#[non_exhaustive]
 pub struct SyntheticPair {
     pub full: TriMesh,
     pub posed: TriMesh,

@@ -68,6 +68,7 @@ pub const DEFAULT_MIN_NEIGHBORS: usize = 3;
 
 /// The default support radius for a pair (full shape, partial shape):
 /// [`DEFAULT_RADIUS_FRACTION`]` * sqrt(area(full))`. Use it for both shapes.
+#[cfg_attr(not(feature = "lab"), allow(dead_code))] // used by the lab and the tests
 pub fn default_shot_radius(full: &TriMesh) -> f64 {
     DEFAULT_RADIUS_FRACTION * full.area().sqrt()
 }
@@ -92,6 +93,7 @@ pub struct Shot {
     /// `n x 352`, unit rows (zero rows where `frames[i]` is `None`).
     pub descriptors: Mat<f64>,
     /// The local reference frame of each vertex, `None` where the support was too small.
+    #[cfg_attr(not(feature = "lab"), allow(dead_code))] // used by the lab and the tests
     pub frames: Vec<Option<LocalFrame>>,
 }
 

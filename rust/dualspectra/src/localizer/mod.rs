@@ -3,25 +3,25 @@
 //!
 //! [`Localizer::new`] prepares what depends on the full shape alone, once: its scale, the
 //! decimated optimisation mesh and its cells on the full shape, the transferred
-//! scale-invariant factor, the SHOT descriptors, the start centres and plane directions,
+//! scale-invariant factor, the SHOT descriptors, the plane-cut heights,
 //! and one symbolic Cholesky analysis shared by every eigensolver; a second, finer
 //! optimisation mesh for partials with holes is prepared the same way on the first such
-//! partial ([`FINE_RESOLUTION_FACTOR`]). [`Localizer::locate`] then runs the stages for one
+//! partial (`stages::FINE_RESOLUTION_FACTOR`). [`Localizer::locate`] then runs the stages for one
 //! partial (`stages.rs`); a `Localizer` is `Send + Sync`, so
 //! several partials may be located concurrently. [`localize`] is the one-call form
 //! (geometry-central's `HeatMethodDistanceSolver` beside `heatMethodDistance`). A prepared
 //! shape is saved and loaded with [`Localizer::save`] / [`Localizer::load`] (`persist.rs`:
 //! the versioned file format), so a library of full shapes is prepared once.
 
-pub mod options;
-pub mod persist;
-pub mod result;
-mod stages;
+mod options;
+pub(crate) mod persist;
+mod result;
+pub(crate) mod stages;
 
-pub use persist::HostNumbering;
-pub use options::{option_spec, options_schema_json, Mode, OptionKind, OptionSpec, Options, MIN_RESOLUTION, OPTIONS};
-pub use result::{Candidate, Localization, Timings};
-pub use stages::{FINE_RESOLUTION_FACTOR, HOLE_RIM_FRACTION};
+pub use crate::mesh::intake::HostNumbering;
+pub use persist::EXTENSION;
+pub use options::{option_spec, options_schema_json, Mode, OptionKind, OptionSpec, Options, Scale, MIN_RESOLUTION, OPTIONS, REMOVED_OPTIONS};
+pub use result::{Candidate, CandidateScore, Localization, Timings};
 
 use crate::error::{Error, Result};
 use crate::mesh::TriMesh;
@@ -46,7 +46,7 @@ pub struct Localizer {
     /// The optimisation mesh (the full shape decimated to about `resolution` vertices) and
     /// what the starts and the choice read from it.
     level: Arc<OptimisationMesh>,
-    /// The finer optimisation mesh for partials with holes ([`FINE_RESOLUTION_FACTOR`] x
+    /// The finer optimisation mesh for partials with holes (`stages::FINE_RESOLUTION_FACTOR` x
     /// `resolution` vertices) and its preparation's notes, built on first use (and not saved:
     /// a loaded localizer builds the same one from the stored full shape).
     fine_level: Mutex<Option<(Arc<OptimisationMesh>, Vec<String>)>>,
@@ -73,9 +73,6 @@ pub(crate) struct OptimisationMesh {
     /// SHOT descriptors of the optimisation vertices, with their support at the data's
     /// resolution.
     coarse_descriptors: Mat<f64>,
-    /// Farthest-point centres on the optimisation mesh and the edge-graph distances from each.
-    centres: Vec<usize>,
-    centre_distances: Vec<Vec<f64>>,
     /// Heights of the optimisation vertices along each plane-cut direction.
     plane_heights: Vec<Vec<f64>>,
 }
@@ -111,9 +108,11 @@ impl Localizer {
     }
 
     /// Locate `partial` on the prepared full shape. Documented behaviours on unusual input: a
-    /// partial without boundary is rejected (a closed surface has no Dirichlet spectrum to
-    /// match); a partial larger than 1.1x the full shape's area is rejected; a disconnected
-    /// partial is reduced to its largest connected component (a warning says so).
+    /// partial without boundary is rejected as [`Error::InvalidMesh`] with
+    /// [`crate::MeshError::ClosedPartial`] (a closed surface has no Dirichlet spectrum to
+    /// match), one without interior vertex with [`crate::MeshError::NoInteriorVertex`]; a
+    /// partial larger than 1.1x the full shape's area is rejected; a disconnected partial is
+    /// reduced to its largest connected component (a warning says so).
     pub fn locate(&self, partial: &TriMesh, progress: &Progress) -> Result<Localization> {
         self.locate_with_initial_regions(partial, &[], progress)
     }
@@ -121,7 +120,7 @@ impl Localizer {
     /// [`Localizer::locate`] with extra starts: each mask (one `bool` per vertex of the full
     /// mesh) is a guess of the region, started from as $w_0 = 2 - 4R_0$; such starts are
     /// labelled `given#i` in [`Localization::candidates`].
-    pub fn locate_with_initial_regions(
+    pub(crate) fn locate_with_initial_regions(
         &self,
         partial: &TriMesh,
         initial_regions: &[Vec<bool>],
@@ -143,7 +142,8 @@ impl Localizer {
     /// set of lowest initial potential, carried to the full mesh as [`Localization::region`]
     /// is), labelled as in [`Localization::candidates`]: a diagnostic of the starts, without
     /// optimising.
-    pub fn start_regions(&self, partial: &TriMesh) -> Result<Vec<(String, Vec<bool>)>> {
+    #[cfg_attr(not(feature = "lab"), allow(dead_code))] // used by the lab and the tests
+    pub(crate) fn start_regions(&self, partial: &TriMesh) -> Result<Vec<(String, Vec<bool>)>> {
         stages::start_regions(self, partial)
     }
 
@@ -164,7 +164,8 @@ impl Localizer {
 
     /// For each optimisation vertex, the full-mesh vertex it is (the decimation keeps a
     /// subset of the full mesh's vertices; increasing).
-    pub fn optimisation_vertex_origins(&self) -> &[u32] {
+    #[cfg_attr(not(feature = "lab"), allow(dead_code))] // used by the lab and the tests
+    pub(crate) fn optimisation_vertex_origins(&self) -> &[u32] {
         &self.level.coarse_to_full
     }
 
@@ -202,7 +203,7 @@ impl Localizer {
 /// # fn main() -> dualspectra::Result<()> {
 /// // A figure with limbs, and a part cut off a posed copy of it.
 /// let pair = synthetic_pair(&SyntheticParams { level: 3, ..SyntheticParams::default() })?;
-/// let options = Options { k: 8, centers: 2, max_iterations: 10, ..Options::default() };
+/// let options = Options { k: 8, max_iterations: 10, ..Options::default() };
 /// let found = localize(&pair.full, &pair.partial, &options, &Progress::none())?;
 /// assert_eq!(found.region.len(), pair.full.n_vertices());
 /// assert!(found.region.iter().any(|&inside| inside));
@@ -213,7 +214,7 @@ pub fn localize(full: &TriMesh, partial: &TriMesh, options: &Options, progress: 
 }
 
 /// [`localize`] with extra starts (see [`Localizer::locate_with_initial_regions`]).
-pub fn localize_with_initial_regions(
+pub(crate) fn localize_with_initial_regions(
     full: &TriMesh,
     partial: &TriMesh,
     options: &Options,

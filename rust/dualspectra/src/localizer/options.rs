@@ -61,6 +61,83 @@ impl std::fmt::Display for Mode {
     }
 }
 
+/// How the partial shape's units relate to the full shape's (docs/algorithm.md, "Units").
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(try_from = "ScaleRepr", into = "ScaleRepr")]
+pub enum Scale {
+    /// The partial is in the full shape's units (a partial whose area cannot fit is refused or
+    /// warned about, naming `auto`).
+    #[default]
+    Same,
+    /// Unknown units: the factor is estimated ([`crate::Localization::scale`] reports it).
+    Auto,
+    /// The partial's coordinates are multiplied by this positive factor first.
+    Factor(f64),
+}
+
+/// [`Scale`] as JSON: `"same"`, `"auto"` or a positive number (also as text).
+#[derive(Serialize, Deserialize)]
+#[serde(untagged)]
+enum ScaleRepr {
+    Number(f64),
+    Text(String),
+}
+
+impl From<Scale> for ScaleRepr {
+    fn from(s: Scale) -> Self {
+        match s {
+            Scale::Same => ScaleRepr::Text("same".into()),
+            Scale::Auto => ScaleRepr::Text("auto".into()),
+            Scale::Factor(f) => ScaleRepr::Number(f),
+        }
+    }
+}
+
+impl TryFrom<ScaleRepr> for Scale {
+    type Error = Error;
+    fn try_from(r: ScaleRepr) -> Result<Self> {
+        match r {
+            ScaleRepr::Number(f) => Scale::factor(f),
+            ScaleRepr::Text(t) => t.parse(),
+        }
+    }
+}
+
+impl Scale {
+    /// `Factor(f)` for a positive finite `f`.
+    pub fn factor(f: f64) -> Result<Scale> {
+        if f > 0.0 && f.is_finite() {
+            Ok(Scale::Factor(f))
+        } else {
+            Err(Error::InvalidArgument(format!("scale = {f} must be same, auto or a positive number")))
+        }
+    }
+}
+
+impl std::str::FromStr for Scale {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "same" => Ok(Scale::Same),
+            "auto" => Ok(Scale::Auto),
+            t => t
+                .parse::<f64>()
+                .map_err(|_| Error::InvalidArgument(format!("scale = {s} must be same, auto or a positive number")))
+                .and_then(Scale::factor),
+        }
+    }
+}
+
+impl std::fmt::Display for Scale {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Scale::Same => f.write_str("same"),
+            Scale::Auto => f.write_str("auto"),
+            Scale::Factor(x) => write!(f, "{x}"),
+        }
+    }
+}
+
 /// Parameters of the [`crate::Localizer`]. `Options::default()` gives the project's defaults
 /// (not the paper's: see `docs/benchmarks/options.md`); construct with
 /// `Options { k: 10, ..Options::default() }`, since fields may be added. Ranges and docs:
@@ -75,16 +152,9 @@ pub struct Options {
     /// Exponent $\alpha$ of the scale-invariant factor $s = (\epsilon + K^2)^{\alpha/2}$.
     /// Default 0.33 (the paper's); 0..=2.
     pub alpha: f64,
-    /// Seed of every random choice: the same inputs and seed give the same result. Default 0.
-    pub seed: u64,
     /// Vertices of the decimated full shape the potential is optimised on; 0: no decimation.
     /// Default 2000; 0 or 200..=200000.
     pub resolution: usize,
-    /// Farthest-point centres; each gives 3 starts (an area-matched ball, its complement and a
-    /// wide Gaussian bump) beside the plane-cut and descriptor starts. Default 0: they cost
-    /// 2.5x the time for no gain across the dev sets (docs/benchmarks/options.md,
-    /// "Starts for each kind of partial"); 0..=64.
-    pub centers: usize,
     /// Trust-region iterations per start. Default 25; 1..=1000.
     pub max_iterations: usize,
     /// Worker threads; 0: all cores. Default 0; 0..=256.
@@ -94,6 +164,13 @@ pub struct Options {
     /// along each axis; 14: and the 8 diagonals; 26: and the 12 face diagonals). Default 6;
     /// 0..=26.
     pub plane_cuts: usize,
+    /// The partial's units: `same` as the full shape's, `auto` (estimated) or a factor its
+    /// coordinates are multiplied by. Default `same`.
+    pub scale: Scale,
+    /// Keeps the struct extensible (construct with `..Default::default()`).
+    #[doc(hidden)]
+    #[serde(skip)]
+    pub non_exhaustive: crate::NonExhaustive,
 }
 
 impl Default for Options {
@@ -102,12 +179,12 @@ impl Default for Options {
             mode: Mode::Dual,
             k: 20,
             alpha: crate::geometry::metric::DEFAULT_ALPHA,
-            seed: 0,
             resolution: 2000,
-            centers: 0,
             max_iterations: 25,
             threads: 0,
             plane_cuts: 6,
+            scale: Scale::Same,
+            non_exhaustive: crate::NonExhaustive::default(),
         }
     }
 }
@@ -122,6 +199,10 @@ pub enum OptionKind {
     Float { min: f64, max: f64 },
     /// One of the names.
     Choice { choices: &'static [&'static str] },
+    /// One of the names, or a positive number (as a number or as text). Listed as a choice
+    /// (`"type": "choice"`, with `"positive_number": true`) for front ends that offer names only.
+    #[serde(rename = "choice")]
+    ChoiceOrPositive { choices: &'static [&'static str], positive_number: bool },
 }
 
 /// One option: its name (the serde field, CLI flag `--name` with `-` for `_`, C key, Python
@@ -162,22 +243,10 @@ pub const OPTIONS: &[OptionSpec] = &[
         doc: "Exponent alpha of the scale-invariant metric factor (eps + K^2)^(alpha/2).",
     },
     OptionSpec {
-        name: "seed",
-        label: "Seed",
-        kind: OptionKind::Int { min: 0, max: u64::MAX },
-        doc: "Seed of every random choice: the same inputs and seed give the same result.",
-    },
-    OptionSpec {
         name: "resolution",
         label: "Optimisation vertices",
         kind: OptionKind::Int { min: 0, max: 200_000 },
         doc: "Vertices of the decimated full shape the potential is optimised on (0: no decimation; otherwise at least 200); a partial with holes gets twice that.",
-    },
-    OptionSpec {
-        name: "centers",
-        label: "Start centres",
-        kind: OptionKind::Int { min: 0, max: 64 },
-        doc: "Farthest-point centres of extra starts (default none); 3 starts each (an area-matched ball, its complement, a wide bump).",
     },
     OptionSpec {
         name: "max_iterations",
@@ -197,10 +266,32 @@ pub const OPTIONS: &[OptionSpec] = &[
         kind: OptionKind::Int { min: 0, max: crate::alignment::starts::MAX_PLANE_CUTS as u64 },
         doc: "Starts on the side of a plane with the partial's area, normal to the first plane_cuts of 26 directions of the full shape's principal axes (6: both ways along each axis).",
     },
+    OptionSpec {
+        name: "scale",
+        label: "Partial's units",
+        kind: OptionKind::ChoiceOrPositive { choices: &["same", "auto"], positive_number: true },
+        doc: "The partial's units: same (as the full shape's), auto (unknown: the factor is estimated and reported), or a positive number the partial's coordinates are multiplied by first.",
+    },
 ];
 
-/// The spec of the option `name`, or an error listing the names.
+/// Options that existed and were removed: (name, version, why). Giving one (a C key, a
+/// Python keyword, a JSON name, a CLI flag) is an error saying so, not an unknown name
+/// (docs/benchmarks/options.md, "`centers` and `seed`").
+pub const REMOVED_OPTIONS: &[(&str, &str, &str)] = &[
+    (
+        "centers",
+        "0.3.0",
+        "the farthest-point starts it added were measured no better than the default starts at 2.5x the time",
+    ),
+    ("seed", "0.3.0", "it only chose the first farthest-point centre, so it changed nothing without `centers`"),
+];
+
+/// The spec of the option `name`, or an error naming it as removed ([`REMOVED_OPTIONS`]) or
+/// listing the names.
 pub fn option_spec(name: &str) -> Result<&'static OptionSpec> {
+    if let Some((_, version, why)) = REMOVED_OPTIONS.iter().find(|r| r.0 == name) {
+        return Err(Error::InvalidArgument(format!("option '{name}' was removed in {version}: {why}; leave it out")));
+    }
     OPTIONS.iter().find(|s| s.name == name).ok_or_else(|| {
         let names: Vec<&str> = OPTIONS.iter().map(|s| s.name).collect();
         Error::InvalidArgument(format!("unknown option '{name}' (options: {})", names.join(", ")))
@@ -254,6 +345,15 @@ impl Options {
                 serde_json::Number::from_f64(x).map(serde_json::Value::Number).ok_or_else(|| out_of_range(spec, &t))?
             }
             (OptionKind::Choice { .. }, serde_json::Value::String(t)) => serde_json::Value::String(t.to_ascii_lowercase()),
+            (OptionKind::ChoiceOrPositive { choices, .. }, serde_json::Value::String(t)) => {
+                let lower = t.trim().to_ascii_lowercase();
+                match lower.parse::<f64>() {
+                    Ok(x) if !choices.contains(&lower.as_str()) => {
+                        serde_json::Number::from_f64(x).map(serde_json::Value::Number).ok_or_else(|| out_of_range(spec, &t))?
+                    }
+                    _ => serde_json::Value::String(lower),
+                }
+            }
             (_, v) => v,
         };
         check_value(spec, &value)?;
@@ -295,6 +395,7 @@ fn out_of_range(spec: &OptionSpec, got: &str) -> Error {
         OptionKind::Int { min, max } => format!("an integer in {min}..={max}"),
         OptionKind::Float { min, max } => format!("a number in [{min}, {max}]"),
         OptionKind::Choice { choices } => format!("one of {}", choices.join(", ")),
+        OptionKind::ChoiceOrPositive { choices, .. } => format!("{} or a positive number", choices.join(", ")),
     };
     Error::InvalidArgument(format!("{} = {got} must be {range}", spec.name))
 }
@@ -304,6 +405,9 @@ fn check_value(spec: &OptionSpec, value: &serde_json::Value) -> Result<()> {
         OptionKind::Int { min, max } => value.as_u64().is_some_and(|x| (min..=max).contains(&x)),
         OptionKind::Float { min, max } => value.as_f64().is_some_and(|x| x.is_finite() && (min..=max).contains(&x)),
         OptionKind::Choice { choices } => value.as_str().is_some_and(|x| choices.contains(&x)),
+        OptionKind::ChoiceOrPositive { choices, .. } => {
+            value.as_str().is_some_and(|x| choices.contains(&x)) || value.as_f64().is_some_and(|x| x > 0.0 && x.is_finite())
+        }
     };
     if ok {
         Ok(())
@@ -342,11 +446,26 @@ mod tests {
         let err = |r: Result<()>| r.unwrap_err().to_string();
         assert!(err(o.set("k", 0.into())).contains("k = 0 must be an integer in 1..=500"));
         assert!(err(o.set("threads", 100000.into())).contains("threads"));
-        assert!(err(o.set("centers", 1000.into())).contains("0..=64"));
+        assert!(err(o.set("plane_cuts", 27.into())).contains("0..=26"));
+        for (name, version, _) in REMOVED_OPTIONS {
+            let e = err(o.set(name, 0.into()));
+            assert!(e.contains(&format!("option '{name}' was removed in {version}")), "{e}");
+            assert!(OPTIONS.iter().all(|s| s.name != *name), "{name} is both an option and removed");
+        }
         assert!(err(o.set_str("alpha", "-inf")).contains("alpha"));
         assert!(err(o.set_str("mode", "both")).contains("one of dual, lbo, si"));
         assert!(err(o.set("kk", 1.into())).contains("unknown option 'kk'"));
         assert!(err(o.set("k", 2.5.into())).contains("k = 2.5"));
+        o.set_str("scale", "AUTO").unwrap();
+        assert_eq!(o.scale, Scale::Auto);
+        o.set_str("scale", "0.001").unwrap();
+        assert_eq!(o.scale, Scale::Factor(0.001));
+        o.set("scale", 1000.into()).unwrap();
+        assert_eq!(o.scale, Scale::Factor(1000.0));
+        assert!(err(o.set_str("scale", "0")).contains("same, auto or a positive number"));
+        assert!(err(o.set("scale", (-2.0).into())).contains("same, auto or a positive number"));
+        assert!(err(o.set_str("scale", "metres")).contains("same, auto or a positive number"));
+        assert_eq!(o.scale, Scale::Factor(1000.0));
         assert_eq!(o.k, 12, "a refused value leaves the options unchanged");
     }
 
@@ -354,8 +473,14 @@ mod tests {
     fn from_json_round_trips_and_validates() {
         let o = Options { k: 7, plane_cuts: 14, ..Options::default() };
         assert_eq!(Options::from_json(&o.to_json()).unwrap(), o);
+        for scale in [Scale::Same, Scale::Auto, Scale::Factor(0.01)] {
+            let o = Options { scale, ..Options::default() };
+            assert_eq!(Options::from_json(&o.to_json()).unwrap(), o);
+        }
         assert_eq!(Options::from_json("{}").unwrap(), Options::default());
         assert!(Options::from_json("{\"resolution\": 50}").unwrap_err().to_string().contains("too coarse"));
         assert!(Options::from_json("[1]").is_err());
+        let e = Options::from_json(r#"{"k": 8, "seed": 0}"#).unwrap_err().to_string();
+        assert!(e.contains("option 'seed' was removed"), "{e}");
     }
 }

@@ -11,8 +11,8 @@
 //!          radius, SHOT minimum neighbours) | scale | full-mesh vertex count
 //!          | full mesh, scaled (vertices f64 x3, faces u32 x3) | optimisation mesh (same)
 //!          | coarse_to_full u32 | cell_of_full u32 | scale-invariant factor of the optimisation
-//!          mesh f64 | SHOT descriptors (rows, cols, f64 row-major) | centres u64
-//!          | centre distances (per centre f64) | plane heights (per direction f64)
+//!          mesh f64 | SHOT descriptors (rows, cols, f64 row-major)
+//!          | plane heights (per direction f64)
 //!          | warnings (strings) | host numbering (flag u8; host vertex count, kept u32)
 //! ```
 //!
@@ -22,7 +22,7 @@
 //! not a pure function of the stored inputs (the decimation, the nearest-vertex cells, the
 //! transferred scale-invariant factor, the SHOT descriptors) and, to keep a loaded
 //! localizer bit-identical to the fresh one without depending on the order of floating-point
-//! work, the small start data (centres, edge-graph distances, plane heights). Recomputed on
+//! work, the small start data (the plane heights). Recomputed on
 //! load, deterministically from the stored meshes: the full mesh's vertex neighbours, the
 //! optimisation mesh's operators, masses and symbolic Cholesky analysis, the thread pool.
 //!
@@ -37,6 +37,7 @@
 use super::{Localizer, Options};
 use crate::error::{Error, Result};
 use crate::geometry::{metric, shot};
+use crate::mesh::intake::HostNumbering;
 use crate::mesh::TriMesh;
 use crate::shape::{Metric, Shape};
 use faer::Mat;
@@ -48,37 +49,12 @@ pub const MAGIC: [u8; 8] = *b"DSPREP\r\n";
 
 /// Version of the layout and of what it holds. Bump it whenever either changes, and whenever
 /// [`Localizer::new`] computes something stored here differently: files of another version
-/// are refused as stale.
-pub const FORMAT_VERSION: u32 = 1;
+/// are refused as stale. Version 2 (0.3.0): no start centres (the `centers` and `seed`
+/// options were removed).
+pub const FORMAT_VERSION: u32 = 2;
 
 /// The conventional file extension of prepared shapes (without the dot).
 pub const EXTENSION: &str = "dsprep";
-
-/// The caller's numbering of the full mesh's vertices (a file's vertices before reading
-/// repaired them, an editor's arrays before the intake), kept with a prepared shape so that
-/// front ends can report results in it after loading.
-#[derive(Debug, Clone, PartialEq, Eq, Default)]
-pub struct HostNumbering {
-    /// Vertices in the caller's numbering.
-    pub n_host_vertices: usize,
-    /// `kept[i]`: the caller's index of mesh vertex `i` (several `i` may name one host
-    /// vertex: the copies of a split non-manifold vertex).
-    pub kept: Vec<u32>,
-}
-
-impl HostNumbering {
-    /// A region (one flag per mesh vertex) in the caller's numbering: a host vertex is in it
-    /// when any of its copies is.
-    pub fn region_to_host(&self, region: &[bool]) -> Vec<bool> {
-        let mut out = vec![false; self.n_host_vertices];
-        for (&inside, &h) in region.iter().zip(&self.kept) {
-            if inside {
-                out[h as usize] = true;
-            }
-        }
-        out
-    }
-}
 
 /// Where bytes come from, for error messages.
 fn source_name(path: Option<&Path>) -> PathBuf {
@@ -108,10 +84,6 @@ impl Localizer {
                 p.f64(d[(i, j)]);
             }
         }
-        p.u64(self.level.centres.len() as u64);
-        self.level.centres.iter().for_each(|&c| p.u64(c as u64));
-        p.u64(self.level.centre_distances.len() as u64);
-        self.level.centre_distances.iter().for_each(|v| p.f64s(v));
         p.u64(self.level.plane_heights.len() as u64);
         self.level.plane_heights.iter().for_each(|v| p.f64s(v));
         p.u64(self.prepared_warnings.len() as u64);
@@ -277,20 +249,6 @@ fn read_payload(r: &mut Reader<'_>) -> std::result::Result<Localizer, String> {
     }
     let flat = r.f64_array(rows * cols)?;
     let coarse_descriptors = Mat::from_fn(rows, cols, |i, j| flat[i * cols + j]);
-    let n_centres = r.count(8, "centres")?;
-    let centres = (0..n_centres)
-        .map(|_| {
-            let c = r.u64()?;
-            if c >= n_coarse as u64 {
-                return Err(format!("centre {c} is not a vertex of the {n_coarse}-vertex optimisation mesh"));
-            }
-            Ok(c as usize)
-        })
-        .collect::<std::result::Result<Vec<_>, String>>()?;
-    let centre_distances = r.f64_rows(n_coarse, "centre distances")?;
-    if centre_distances.len() != centres.len() {
-        return Err(format!("{} distance rows for {} centres", centre_distances.len(), centres.len()));
-    }
     let plane_heights = r.f64_rows(n_coarse, "plane heights")?;
     let n_warnings = r.count(4, "warnings")?;
     let warnings = (0..n_warnings).map(|_| r.string()).collect::<std::result::Result<Vec<_>, String>>()?;
@@ -326,8 +284,6 @@ fn read_payload(r: &mut Reader<'_>) -> std::result::Result<Localizer, String> {
             coarse_to_full,
             cell_of_full,
             coarse_descriptors,
-            centres,
-            centre_distances,
             plane_heights,
         }),
         fine_level: Default::default(),

@@ -1,10 +1,12 @@
 //! What a localization returns.
 
-use crate::selection::CandidateScore;
-use serde::{Deserialize, Serialize};
+pub use crate::selection::CandidateScore;
+use crate::mesh::intake::HostNumbering;
+use serde::{Deserialize, Deserializer, Serialize};
 
 /// Wall-clock seconds per stage.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[non_exhaustive]
 pub struct Timings {
     /// Preparing the full shape ([`crate::Localizer::new`]); 0 when a prepared
     /// [`crate::Localizer`] was reused.
@@ -22,9 +24,10 @@ pub struct Timings {
 
 /// One optimised start: its label, final cost, scores and region on the full mesh.
 #[derive(Debug, Clone, Serialize, Deserialize)]
+#[non_exhaustive]
 pub struct Candidate {
-    /// Where it started: `ball@c`, `coball@c`, `bump@c/sigma1` (around optimisation-mesh
-    /// vertex `c`), `planeJ`, or `given#i` (the i-th given region).
+    /// Where it started: `planeJ` (the j-th plane cut), `descriptor-fit`, `descriptor-vote`,
+    /// or `given#i` (the i-th given region).
     pub label: String,
     /// Final alignment cost.
     pub cost: f64,
@@ -39,6 +42,7 @@ pub struct Candidate {
 
 /// Result of a localization. Per-vertex arrays are indexed by the full mesh's vertices.
 #[derive(Debug, Clone, Serialize, Deserialize)]
+#[non_exhaustive]
 pub struct Localization {
     /// `true` for vertices of the full mesh in the matched region.
     pub region: Vec<bool>,
@@ -59,10 +63,20 @@ pub struct Localization {
     /// the true region with IoU >= 0.5 ([`crate::selection::confidence`]; calibration in
     /// docs/benchmarks/confidence/). Reject matches below a threshold of your choice.
     pub confidence: f64,
+    /// How similar the partial is to the full shape, lower is more similar
+    /// ([`crate::selection::similarity_score`]: the best partial fit among the candidates);
+    /// comparable across full shapes, what [`crate::search()`] ranks by. `+inf` when no
+    /// candidate region has a fit (serialized as `null`).
+    #[serde(default = "infinity", deserialize_with = "null_as_infinity")]
+    pub similarity_score: f64,
     /// Vertices of the optimisation mesh the potential was optimised on (the finer one for a
-    /// partial with holes, [`crate::localizer::FINE_RESOLUTION_FACTOR`]).
+    /// partial with holes: twice the `resolution` option).
     #[serde(default)]
     pub optimisation_vertices: usize,
+    /// The factor the partial's coordinates were multiplied by to bring it to the full shape's
+    /// units: 1 with `scale = same`, the given factor, or the estimate with `scale = auto`.
+    #[serde(default = "unit_scale")]
+    pub scale: f64,
     /// Index of the selected start in `candidates`, and the number of starts run.
     pub selected_start: usize,
     pub n_starts: usize,
@@ -72,4 +86,35 @@ pub struct Localization {
     /// Notes on what was repaired or skipped (e.g. a disconnected partial reduced to its
     /// largest component); every front end shows them.
     pub warnings: Vec<String>,
+}
+
+fn unit_scale() -> f64 {
+    1.0
+}
+
+impl Localization {
+    /// This result with its per-vertex arrays in the caller's numbering of the full mesh
+    /// (`host`, e.g. [`crate::mesh::intake::MeshIntake::host_numbering`] or a prepared
+    /// shape's [`crate::Localizer::host_numbering`]): `region` and every candidate's region
+    /// hold a host vertex when they hold any of its copies; `score` and `potential` take its
+    /// first copy's value; host vertices no mesh vertex names read `false` / 0. What every
+    /// front end returns, so the rule is written once ([`HostNumbering`]).
+    pub fn to_host(mut self, host: &HostNumbering) -> Localization {
+        self.region = host.region_to_host(&self.region);
+        self.score = host.values_to_host(&self.score, 0.0);
+        self.potential = host.values_to_host(&self.potential, 0.0);
+        for c in &mut self.candidates {
+            c.region = host.region_to_host(&c.region);
+        }
+        self
+    }
+}
+
+fn infinity() -> f64 {
+    f64::INFINITY
+}
+
+/// A number, or `null` (how serde_json writes a non-finite float) as `+inf`.
+fn null_as_infinity<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::INFINITY))
 }

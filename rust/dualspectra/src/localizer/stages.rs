@@ -2,11 +2,11 @@
 //! [`Localizer`]), then for each partial: target, starts, runs, candidates, scores, choice,
 //! result. [`locate`] reads as that list.
 
-use super::{Candidate, Localization, Localizer, OptimisationMesh, Options, Timings};
+use super::{Candidate, Localization, Localizer, OptimisationMesh, Options, Scale, Timings};
 use crate::alignment::cost::{potential_from_w, AlignmentCost, SpectrumTerm};
 use crate::alignment::starts::{self, Start};
 use crate::alignment::trust_region::{minimize, HessianOperator, Point, TrustRegionParams};
-use crate::error::{Error, Result};
+use crate::error::{Error, MeshError, Result};
 use crate::geometry::shot;
 use crate::mesh::TriMesh;
 use crate::progress::Progress;
@@ -27,8 +27,12 @@ pub const STEP_HEIGHT_FACTOR: f64 = 50.0;
 /// boundary kept vertex for vertex) before their spectra and descriptors: dense scans
 /// (PFARM: up to 27k vertices) then cost what a SHREC'16 partial costs. The low
 /// Dirichlet eigenvalues the method matches change little under this coarsening
-/// (docs/benchmarks/real-partials-2026-12-01.md); every SHREC'16 partial is below it.
+/// (docs/benchmarks/options.md, "Partials above 12,000 vertices"); every SHREC'16 partial is below it.
 pub const MAX_PARTIAL_VERTICES: usize = 12_000;
+
+/// A partial of less than this fraction of the full shape's area is warned about: it is likely
+/// in other units (`scale = auto`), and too small to place reliably if it is not.
+pub const SMALLEST_AREA_FRACTION: f64 = 1e-3;
 
 /// Partials with holes are optimised on a mesh this many times finer than `resolution`
 /// (docs/benchmarks/options.md, "Finer mesh for partials with holes").
@@ -163,10 +167,8 @@ fn prepare_level(
     };
     progress.report(0.9, "starts")?;
     let points = coarse.mesh().vertices();
-    let centres = starts::farthest_point_samples(points, options.centers, options.seed);
-    let centre_distances = starts::centre_distances(coarse.mesh(), &centres);
     let plane_heights = starts::plane_heights(points, coarse.mass(), options.plane_cuts);
-    Ok(OptimisationMesh { coarse, coarse_to_full, cell_of_full, coarse_descriptors, centres, centre_distances, plane_heights })
+    Ok(OptimisationMesh { coarse, coarse_to_full, cell_of_full, coarse_descriptors, plane_heights })
 }
 
 /// The optimisation mesh as a [`Shape`]. When it is a decimation of `full`, its
@@ -191,6 +193,8 @@ fn coarse_shape(coarse: TriMesh, full: &TriMesh, coarse_to_full: &[u32], cell_of
 struct Target {
     shape: Shape,
     area: f64,
+    /// The factor applied to the partial's coordinates ([`Options::scale`]).
+    factor: f64,
     terms: Vec<SpectrumTerm>,
     /// The partial's Dirichlet spectrum of each term (its eigenfunctions also give the
     /// descriptor projections of the selection).
@@ -234,7 +238,7 @@ pub(super) fn locate(loc: &Localizer, partial: &TriMesh, initial_regions: &[Vec<
     progress.report(0.05, "starts")?;
     let starts = starts_for(&level, &target, initial_regions);
     if starts.is_empty() {
-        return Err(Error::InvalidArgument("no starts (centers = 0 and plane_cuts = 0, no initial region, and no descriptor start)".into()));
+        return Err(Error::InvalidArgument("no starts (plane_cuts = 0, no initial region, and no descriptor start)".into()));
     }
     let t_starts = clock.lap();
     let (runs, failure) = optimise(loc, &level, &target, &starts, &progress.sub(0.05, 0.9))?;
@@ -264,9 +268,10 @@ pub(super) fn locate(loc: &Localizer, partial: &TriMesh, initial_regions: &[Vec<
     Ok(result(loc, &level, &target, scored, choice, timings, warnings))
 }
 
-/// Each start's region for `partial`: the partial's area of lowest $w_0$ (a mask start's
-/// mask; the vertices around a bump's centre), carried to the full shape, with its label:
+/// Each start's region for `partial`: the partial's area of lowest $w_0$ (a start's mask),
+/// carried to the full shape, with its label:
 /// what the optimisation begins from (a diagnostic; [`Localizer::start_regions`]).
+#[cfg_attr(not(feature = "lab"), allow(dead_code))] // used by the lab and the tests
 pub(super) fn start_regions(loc: &Localizer, partial: &TriMesh) -> Result<Vec<(String, Vec<bool>)>> {
     let (target, level, _) = target_on_its_mesh(loc, partial, &Progress::none())?;
     starts_for(&level, &target, &[])
@@ -301,7 +306,11 @@ fn target(loc: &Localizer, partial: &TriMesh) -> Result<Target> {
             partial.n_vertices()
         ));
     }
-    let mut scaled = component.map_positions(|p| p.map(|c| c * loc.scale))?;
+    let given_factor = match options.scale {
+        Scale::Factor(f) => f,
+        Scale::Same | Scale::Auto => 1.0,
+    };
+    let mut scaled = component.map_positions(|p| p.map(|c| c * loc.scale * given_factor))?;
     if scaled.n_vertices() > MAX_PARTIAL_VERTICES {
         // If the collapse fails validation, the partial is used as it is (slower, not worse).
         let fraction = MAX_PARTIAL_VERTICES as f64 / scaled.n_vertices() as f64;
@@ -309,19 +318,32 @@ fn target(loc: &Localizer, partial: &TriMesh) -> Result<Target> {
             scaled = coarser.mesh;
         }
     }
+    let factor = if options.scale == Scale::Auto {
+        let (_, s) = crate::alignment::scale::estimate_scale(&loc.level.coarse_descriptors, &scaled)?;
+        scaled = scaled.map_positions(|p| p.map(|c| c * s))?;
+        s
+    } else {
+        given_factor
+    };
     let area = scaled.area();
+    let hint = match options.scale {
+        Scale::Same => " (if the partial is in other units, use scale = auto or give the factor)",
+        _ => "",
+    };
     if area > 1.1 {
-        return Err(Error::InvalidArgument(format!(
-            "the partial shape's area is {area:.2}x the full shape's: it cannot be a part of it"
-        )));
+        return Err(MeshError::PartialLargerThanFull { ratio: area, hint }.into());
+    }
+    if area < SMALLEST_AREA_FRACTION {
+        warnings.push(format!(
+            "the partial shape's area is {area:.2e} of the full shape's: too small a part to place reliably{hint}"
+        ));
     }
     let shape = Shape::with_metric_params(scaled, options.alpha, crate::geometry::metric::DEFAULT_EPS);
     if !shape.has_boundary() {
-        return Err(Error::InvalidArgument(
-            "the partial shape has no boundary (it is closed): there is no Dirichlet spectrum to match; \
-             compare whole shapes with the similarity tools instead"
-                .into(),
-        ));
+        return Err(MeshError::ClosedPartial.into());
+    }
+    if shape.dirichlet().n_free() == 0 {
+        return Err(MeshError::NoInteriorVertex.into());
     }
     let (k_regular, k_si) = options.mode.counts(options.k);
     let (mut terms, mut spectra) = (Vec::new(), Vec::new());
@@ -337,28 +359,19 @@ fn target(loc: &Localizer, partial: &TriMesh) -> Result<Target> {
     let descriptors = shot::shot_descriptors(shape.mesh(), shot::DEFAULT_RADIUS_FRACTION, shot::DEFAULT_MIN_NEIGHBORS)?;
     // The matches are filled in once the optimisation mesh is chosen.
     let has_holes = has_holes(shape.mesh());
-    Ok(Target { shape, area, terms, spectra, descriptors, matches: None, has_holes, warnings })
+    Ok(Target { shape, area, factor, terms, spectra, descriptors, matches: None, has_holes, warnings })
 }
 
-/// Stage 2: the starts. Given regions first, then per centre an area-matched ball, its
-/// complement and a wide Gaussian bump, then the plane cuts (not for a partial with holes),
-/// then the two descriptor starts (the regions whose SHOT descriptors the partial's
+/// Stage 2: the starts. Given regions first, then the plane cuts (not for a partial with
+/// holes), then the two descriptor starts (the regions whose SHOT descriptors the partial's
 /// resemble).
 fn starts_for(level: &OptimisationMesh, target: &Target, initial_regions: &[Vec<bool>]) -> Vec<Start> {
-    let points = level.coarse.mesh().vertices();
     let mass = level.coarse.mass();
-    let sigma = target.area.sqrt();
     let mut out: Vec<Start> = initial_regions
         .iter()
         .enumerate()
         .map(|(i, r)| starts::mask_start(&level.to_coarse(r).0, &format!("given#{i}")))
         .collect();
-    let balls = starts::area_ball_starts(&level.centre_distances, mass, &level.centres, target.area);
-    for (pair, &c) in balls.chunks(2).zip(&level.centres) {
-        out.extend(pair.iter().cloned());
-        let [_, bump] = starts::gaussian_pair(points, c, 2.0 * sigma, 1);
-        out.push(bump);
-    }
     let descriptor_starts = match &target.matches {
         Some(matches) => {
             let neighbors = crate::mesh::topology::vertex_neighbors(level.coarse.mesh());
@@ -539,6 +552,7 @@ fn result(loc: &Localizer, level: &OptimisationMesh, target: &Target, scored: Ve
     let cost = best.cost;
     let n_starts = scored.len();
     let confidence = selection::confidence(&scored[choice].score);
+    let similarity_score = selection::similarity_score(&scored.iter().map(|c| c.score).collect::<Vec<_>>());
     let region = scored[choice].full.0.clone();
     let candidates = scored
         .into_iter()
@@ -561,7 +575,9 @@ fn result(loc: &Localizer, level: &OptimisationMesh, target: &Target, scored: Ve
         target_si,
         cost,
         confidence,
+        similarity_score,
         optimisation_vertices: level.coarse.n_vertices(),
+        scale: target.factor,
         selected_start: choice,
         n_starts,
         timings,

@@ -19,7 +19,7 @@
 //! last bits of the coordinates: a 1e-9
 //! relative jitter moves a coordinate to another cell with probability ~1e-5, where
 //! unsnapped `f32` rounding changed in ~1% of the coordinates and with it the kept vertices
-//! of every run (docs/benchmarks/real-partials-2026-12-02-s20.md). Single-precision input
+//! of every run (docs/benchmarks/options.md, "Snapped decimation"). Single-precision input
 //! (a host's f32 positions) is still a larger move and can change the result. The kept
 //! vertices keep their exact input positions.
 //!

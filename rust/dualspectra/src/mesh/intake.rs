@@ -12,6 +12,10 @@
 //! (selections: any copy's). Anything else invalid (an index out of range, a non-finite
 //! coordinate, no face left) is an error.
 //!
+//! [`HostNumbering`] is that map on its own ([`MeshIntake::host_numbering`]): what a prepared
+//! shape keeps (and saves) so that every front end reports results in the caller's
+//! numbering with the same rules, written once here.
+//!
 //! [`split_non_manifold`]: super::repair::split_non_manifold
 
 use super::repair::split_faces;
@@ -135,22 +139,13 @@ impl MeshIntake {
     /// split host vertex takes its first copy's value (the fan of its lowest face): for
     /// values such as curvature, potential or score.
     pub fn to_host<T: Clone>(&self, values: &[T], fill: T) -> Vec<T> {
-        let mut out = vec![fill; self.n_host_vertices];
-        // Backwards, so that the first copy is written last.
-        for (&host, v) in self.kept.iter().zip(values).rev() {
-            out[host as usize] = v.clone();
-        }
-        out
+        first_copy_to_host(&self.kept, self.n_host_vertices, values, fill)
     }
 
     /// A selection of mesh vertices at the host's indices: a host vertex is selected if any
     /// of its copies is (`false` at dropped vertices). For regions.
     pub fn to_host_any(&self, selected: &[bool]) -> Vec<bool> {
-        let mut out = vec![false; self.n_host_vertices];
-        for (&host, &s) in self.kept.iter().zip(selected) {
-            out[host as usize] |= s;
-        }
-        out
+        any_copy_to_host(&self.kept, self.n_host_vertices, selected)
     }
 
     /// Per-vertex amounts of the mesh summed at the host's indices (0 at dropped vertices):
@@ -162,6 +157,11 @@ impl MeshIntake {
             out[host as usize] += v;
         }
         out
+    }
+
+    /// The map back to the host's vertices on its own (to keep with a prepared shape).
+    pub fn host_numbering(&self) -> HostNumbering {
+        HostNumbering { n_host_vertices: self.n_host_vertices, kept: self.kept.clone() }
     }
 
     /// Per-host-vertex `values` read at the mesh's vertices (every copy reads its host vertex).
@@ -229,6 +229,64 @@ pub(super) fn is_degenerate(vertices: &[[f64; 3]], f: &[u32; 3]) -> bool {
     let norm2 = |e: [f64; 3]| e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
     let longest = norm2(u).max(norm2(v)).max(norm2(w));
     !(area > DEGENERATE_RATIO * longest)
+}
+
+/// The caller's numbering of a mesh's vertices (a file's vertex records before reading
+/// repaired them, an editor's arrays before the intake): `kept[i]` is the caller's index of
+/// mesh vertex `i`. Kept with a prepared shape (and in its file) so that every front end
+/// reports per-vertex results in the caller's numbering, by the intake's rules: a value at
+/// host vertex $h$ is that of its first copy $\min\{i : \text{kept}_i = h\}$; a host vertex
+/// is in a region when any of its copies is; vertices no copy names get the fill value.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct HostNumbering {
+    /// Vertices in the caller's numbering.
+    pub n_host_vertices: usize,
+    /// `kept[i]`: the caller's index of mesh vertex `i` (several `i` may name one host
+    /// vertex: the copies of a split non-manifold vertex).
+    pub kept: Vec<u32>,
+}
+
+impl HostNumbering {
+    /// The numbering of a mesh taken as it is: mesh vertex `i` is host vertex `i`.
+    pub fn identity(n_vertices: usize) -> Self {
+        HostNumbering { n_host_vertices: n_vertices, kept: (0..n_vertices as u32).collect() }
+    }
+
+    /// Whether mesh vertex `i` is host vertex `i` for every `i` (nothing dropped or split).
+    pub fn is_identity(&self) -> bool {
+        self.n_host_vertices == self.kept.len() && self.kept.iter().enumerate().all(|(i, &k)| k as usize == i)
+    }
+
+    /// Per-vertex `values` of the mesh at the caller's indices: a split vertex's first copy's
+    /// value, `fill` where no mesh vertex names the host vertex (as [`MeshIntake::to_host`]).
+    pub fn values_to_host<T: Clone>(&self, values: &[T], fill: T) -> Vec<T> {
+        first_copy_to_host(&self.kept, self.n_host_vertices, values, fill)
+    }
+
+    /// A region (one flag per mesh vertex) in the caller's numbering: a host vertex is in it
+    /// when any of its copies is (as [`MeshIntake::to_host_any`]).
+    pub fn region_to_host(&self, region: &[bool]) -> Vec<bool> {
+        any_copy_to_host(&self.kept, self.n_host_vertices, region)
+    }
+}
+
+/// `out[kept[i]] = values[i]` for the first `i` naming each host vertex; `fill` elsewhere.
+fn first_copy_to_host<T: Clone>(kept: &[u32], n_host: usize, values: &[T], fill: T) -> Vec<T> {
+    let mut out = vec![fill; n_host];
+    // Backwards, so that the first copy is written last.
+    for (&host, v) in kept.iter().zip(values).rev() {
+        out[host as usize] = v.clone();
+    }
+    out
+}
+
+/// `out[h]` = any `selected[i]` with `kept[i] = h`.
+fn any_copy_to_host(kept: &[u32], n_host: usize, selected: &[bool]) -> Vec<bool> {
+    let mut out = vec![false; n_host];
+    for (&host, &s) in kept.iter().zip(selected) {
+        out[host as usize] |= s;
+    }
+    out
 }
 
 #[cfg(test)]
@@ -300,5 +358,23 @@ mod tests {
         let w = intake.warning("partial mesh").unwrap();
         assert!(w.starts_with("partial mesh: left out 0 degenerate face(s) and 1 vertex(es)"), "{w}");
         assert!(w.contains("split 1 non-manifold edge(s) and 3 non-manifold vertex(es) (3 vertex copies"), "{w}");
+        // The numbering on its own maps as the intake does.
+        let host = intake.host_numbering();
+        assert!(!host.is_identity());
+        assert_eq!(host.values_to_host(&values, 0), intake.to_host(&values, 0));
+        assert_eq!(host.region_to_host(&only_copies), intake.to_host_any(&only_copies));
+    }
+
+    #[test]
+    fn the_identity_numbering_changes_nothing() {
+        let id = HostNumbering::identity(5);
+        assert!(id.is_identity());
+        let values = [3.0, 1.0, 4.0, 1.0, 5.0];
+        assert_eq!(id.values_to_host(&values, f64::NAN), values);
+        let region = [true, false, false, true, true];
+        assert_eq!(id.region_to_host(&region), region);
+        // The same length but a permutation is not the identity; neither is a dropped vertex.
+        assert!(!HostNumbering { n_host_vertices: 2, kept: vec![1, 0] }.is_identity());
+        assert!(!HostNumbering { n_host_vertices: 3, kept: vec![0, 1] }.is_identity());
     }
 }

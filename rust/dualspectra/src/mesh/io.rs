@@ -111,6 +111,9 @@ pub struct ReadOptions {
     /// With `false` they fail validation as [`MeshError::NonManifoldEdge`] or
     /// [`MeshError::NonManifoldVertex`].
     pub split_non_manifold: bool,
+    /// Keeps the struct extensible (construct with `..Default::default()`).
+    #[doc(hidden)]
+    pub non_exhaustive: crate::NonExhaustive,
 }
 
 impl Default for ReadOptions {
@@ -119,12 +122,14 @@ impl Default for ReadOptions {
             drop_isolated: false,
             remove_duplicate_faces: true,
             split_non_manifold: true,
+            non_exhaustive: crate::NonExhaustive::default(),
         }
     }
 }
 
 /// What reading changed between the file and the returned mesh.
 #[derive(Debug, Clone, PartialEq, Eq)]
+#[non_exhaustive]
 pub struct ReadReport {
     pub format: MeshFormat,
     /// Vertex records in the file.

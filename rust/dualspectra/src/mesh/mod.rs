@@ -2,8 +2,8 @@
 
 pub mod topology;
 pub mod generate;
-pub mod decimate;
-pub mod nearest;
+pub(crate) mod decimate;
+pub(crate) mod nearest;
 pub mod intake;
 pub mod io;
 pub mod repair;
@@ -50,6 +50,12 @@ impl TriMesh {
         let v = vertices.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
         let f = faces.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
         Self::new(v, f)
+    }
+
+    /// Build from `nalgebra` points and faces (feature `nalgebra`); checks as in [`TriMesh::new`].
+    #[cfg(feature = "nalgebra")]
+    pub fn from_points(points: &[nalgebra::Point3<f64>], faces: Vec<[u32; 3]>) -> Result<Self, MeshError> {
+        Self::new(points.iter().map(|p| [p.x, p.y, p.z]).collect(), faces)
     }
 
     /// Repair then build: drop vertices that belong to no face, and return the kept

@@ -70,16 +70,19 @@ impl KdTree {
     }
 
     /// Number of points in the tree.
+    #[cfg_attr(not(feature = "lab"), allow(dead_code))] // used by the lab and the tests
     pub fn len(&self) -> usize {
         self.points.len()
     }
 
     /// Always `false` (a tree has at least one point); for API completeness.
+    #[cfg_attr(not(feature = "lab"), allow(dead_code))] // used by the lab and the tests
     pub fn is_empty(&self) -> bool {
         self.points.is_empty()
     }
 
     /// The points the tree was built on.
+    #[cfg_attr(not(feature = "lab"), allow(dead_code))] // used by the lab and the tests
     pub fn points(&self) -> &[[f64; 3]] {
         &self.points
     }
@@ -165,6 +168,7 @@ impl KdTree {
 
     /// Indices of all points `p` with `|p - q| <= r`, ascending, with their squared
     /// distances. `r` must be finite and non-negative (otherwise nothing is returned).
+    #[cfg_attr(not(feature = "lab"), allow(dead_code))] // used by the lab and the tests
     pub fn within_radius(&self, q: [f64; 3], r: f64) -> Vec<(u32, f64)> {
         let mut out = Vec::new();
         self.within_radius_into(q, r, &mut out);
@@ -229,6 +233,7 @@ pub fn nearest_vertices(targets: &[[f64; 3]], queries: &[[f64; 3]]) -> Result<Ve
 ///
 /// With `map = nearest_vertices(source_vertices, target_vertices)` this transfers a
 /// mask or score from the source mesh to the target mesh by nearest neighbour.
+#[cfg_attr(not(feature = "lab"), allow(dead_code))] // used by the lab and the tests
 pub fn transfer<T: Copy>(values: &[T], map: &[u32]) -> Result<Vec<T>> {
     map.iter()
         .enumerate()

@@ -1,8 +1,10 @@
 //! Discrete operators: cotangent stiffness, lumped mass, Dirichlet restriction, Hamiltonian.
 
-pub mod stiffness;
-pub mod mass;
-pub mod dirichlet;
+pub(crate) mod stiffness;
+pub(crate) mod mass;
+pub(crate) mod dirichlet;
+#[cfg(feature = "nalgebra")]
+pub mod nalgebra;
 
 pub use dirichlet::Dirichlet;
 pub use mass::{lumped_mass, scale_invariant_mass};

@@ -61,12 +61,14 @@ fn grow(mask: &[bool], neighbors: &[Vec<u32>], rings: usize) -> Vec<bool> {
 ///
 /// `mask[v]` is membership of vertex `v`; `neighbors[v]` its one ring (as from
 /// `mesh::topology::vertex_neighbors`). Errors on a length mismatch or an out-of-range index.
+#[cfg_attr(not(feature = "lab"), allow(dead_code))] // used by the lab and the tests
 pub fn dilate(mask: &[bool], neighbors: &[Vec<u32>], rings: usize) -> Result<Vec<bool>> {
     check(mask, neighbors)?;
     Ok(grow(mask, neighbors, rings))
 }
 
 /// Erosion `E_r(X)`: the vertices whose whole `rings`-ring ball lies in the mask.
+#[cfg_attr(not(feature = "lab"), allow(dead_code))] // used by the lab and the tests
 pub fn erode(mask: &[bool], neighbors: &[Vec<u32>], rings: usize) -> Result<Vec<bool>> {
     check(mask, neighbors)?;
     let complement: Vec<bool> = mask.iter().map(|&b| !b).collect();

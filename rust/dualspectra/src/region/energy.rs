@@ -16,6 +16,7 @@ pub fn eigenvector_energy(vectors: &Mat<f64>) -> Vec<f64> {
 }
 
 /// `e_i > fraction / area` (with `area` the partial's area in the same units as the mass).
+#[cfg_attr(not(feature = "lab"), allow(dead_code))] // used by the lab and the tests
 pub fn threshold_region(energy: &[f64], partial_area: f64, fraction: f64) -> Vec<bool> {
     let t = fraction / partial_area;
     energy.iter().map(|&e| e > t).collect()

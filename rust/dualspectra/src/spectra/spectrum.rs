@@ -21,6 +21,9 @@ pub struct EigenParams {
     pub shift: Option<f64>,
     /// Re-use the previous eigenvectors of a [`super::HamiltonianSolver`] as the start block.
     pub warm_start: bool,
+    /// Keeps the struct extensible (construct with `..Default::default()`).
+    #[doc(hidden)]
+    pub non_exhaustive: crate::NonExhaustive,
 }
 
 impl Default for EigenParams {
@@ -32,12 +35,14 @@ impl Default for EigenParams {
             max_iter: 30,
             shift: None,
             warm_start: true,
+            non_exhaustive: crate::NonExhaustive::default(),
         }
     }
 }
 
 /// Diagnostics of one solve.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct EigenInfo {
     /// All `k` pairs met the tolerance.
     pub converged: bool,
@@ -55,6 +60,7 @@ pub struct EigenInfo {
 
 /// The $k$ smallest eigenpairs of a pencil $H\phi = \lambda M\phi$, $M$ diagonal.
 #[derive(Debug, Clone)]
+#[non_exhaustive]
 pub struct Spectrum {
     /// Eigenvalues $\lambda_1 \le \dots \le \lambda_k$ (ascending).
     pub values: Vec<f64>,

@@ -339,117 +339,161 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<RawMesh> {
     // Indices are checked against the declared vertex count as faces are read (the face
     // element may come first); the vertex element must then deliver that many.
     let mut raw = RawMesh::new(n_vertices, path)?;
-    let mut poly: Vec<u64> = Vec::new();
     for element in &header.elements {
+        read_element(element, header.encoding, &mut body, &mut raw, path)?;
+    }
+    check_no_data_left(&header, body, bytes, path)?;
+    Ok(raw)
+}
+
+/// Where an element's properties go: the slots of `x`, `y`, `z` (vertex) and of the index
+/// list (face); `usize::MAX` for none.
+struct Slots {
+    is_vertex: bool,
+    is_face: bool,
+    coord: [usize; 3],
+    index: usize,
+}
+
+impl Slots {
+    /// The slots of `element`; a vertex element needs `x`, `y`, `z`, a face element an
+    /// index list.
+    fn of(element: &Element, path: &Path) -> Result<Slots> {
         let is_vertex = element.name == "vertex";
         let is_face = element.name == "face";
-        let mut coord_slot = [usize::MAX; 3];
-        let mut index_slot = usize::MAX;
+        let mut coord = [usize::MAX; 3];
+        let mut index = usize::MAX;
         for (k, p) in element.properties.iter().enumerate() {
             match (is_vertex, is_face, p) {
                 (true, _, Property::Scalar { name, .. }) if ["x", "y", "z"].contains(&name.as_str()) => {
-                    coord_slot[(name.as_bytes()[0] - b'x') as usize] = k;
+                    coord[(name.as_bytes()[0] - b'x') as usize] = k;
                 }
                 (_, true, Property::List { name, .. }) if name == "vertex_indices" || name == "vertex_index" => {
-                    index_slot = k
+                    index = k
                 }
                 _ => {}
             }
         }
         if is_vertex {
-            if let Some(axis) = coord_slot.iter().position(|&s| s == usize::MAX) {
+            if let Some(axis) = coord.iter().position(|&s| s == usize::MAX) {
                 return Err(parse_error(
                     path,
                     format!("the vertex element has no scalar property '{}'", ["x", "y", "z"][axis]),
                 ));
             }
         }
-        if is_face && index_slot == usize::MAX {
+        if is_face && index == usize::MAX {
             return Err(parse_error(
                 path,
                 "the face element has no 'vertex_indices' list property",
             ));
         }
-        let min_bytes = element.min_record_bytes(header.encoding, index_slot);
-        if min_bytes == 0 {
-            // No properties (vertex and face have some): records of zero bytes in binary
-            // data, empty lines in ASCII. Nothing to read, so no loop over the count.
-            if header.encoding == Encoding::Ascii && element.count > body.remaining().saturating_add(1) {
-                return Err(parse_error(
-                    path,
-                    format!(
-                        "element '{}' declares {} records (empty lines), but only {} bytes of data are left",
-                        element.name,
-                        element.count,
-                        body.remaining()
-                    ),
-                ));
-            }
-            continue;
-        }
-        // Each record takes at least `min_bytes` (a valid one; a shorter face is an error
-        // where it is read): the loop below ends within the data, and nothing is reserved
-        // beyond what the data can hold.
-        let fits = body.remaining() / min_bytes + 1;
-        if is_vertex {
-            raw.reserve(element.count.min(fits), 0);
-        }
-        if is_face {
-            raw.reserve(0, element.count.min(fits));
-        }
-        for r in 0..element.count {
-            let fail = |f: ReadFail, what: &str| match f {
-                ReadFail::End => parse_error(
-                    path,
-                    format!(
-                        "the file ends in {} {r} of {} (truncated?)",
-                        element.name, element.count
-                    ),
+        Ok(Slots { is_vertex, is_face, coord, index })
+    }
+}
+
+/// Read every record of one element: vertex positions and faces into `raw`, other
+/// elements' data skipped.
+fn read_element(element: &Element, encoding: Encoding, body: &mut Body<'_>, raw: &mut RawMesh, path: &Path) -> Result<()> {
+    let slots = Slots::of(element, path)?;
+    let min_bytes = element.min_record_bytes(encoding, slots.index);
+    if min_bytes == 0 {
+        // No properties (vertex and face have some): records of zero bytes in binary
+        // data, empty lines in ASCII. Nothing to read, so no loop over the count.
+        if encoding == Encoding::Ascii && element.count > body.remaining().saturating_add(1) {
+            return Err(parse_error(
+                path,
+                format!(
+                    "element '{}' declares {} records (empty lines), but only {} bytes of data are left",
+                    element.name,
+                    element.count,
+                    body.remaining()
                 ),
-                ReadFail::Bad(m) => parse_error(path, format!("{} {r}, {what}: {m}", element.name)),
-            };
-            let mut xyz = [0.0; 3];
-            for (k, p) in element.properties.iter().enumerate() {
-                match p {
-                    Property::Scalar { ty, name } => {
-                        let x = body.scalar(*ty).map_err(|f| fail(f, name))?;
-                        if let Some(axis) = coord_slot.iter().position(|&s| s == k) {
-                            xyz[axis] = x;
-                        }
-                    }
-                    Property::List { count, item, name } => {
-                        let c = body.scalar(*count).map_err(|f| fail(f, name))?;
-                        if c < 0.0 {
-                            return Err(fail(ReadFail::Bad(format!("negative list length {c}")), name));
-                        }
-                        let c = c as usize;
-                        if k != index_slot {
-                            body.skip(*item, c).map_err(|f| fail(f, name))?;
-                            continue;
-                        }
-                        poly.clear();
-                        for _ in 0..c {
-                            let x = body.scalar(*item).map_err(|f| fail(f, name))?;
-                            if x < 0.0 || x.fract() != 0.0 || x >= 2f64.powi(63) {
-                                return Err(fail(
-                                    ReadFail::Bad(format!("vertex index {x} is not a non-negative integer")),
-                                    name,
-                                ));
-                            }
-                            poly.push(x as u64);
-                        }
-                    }
+            ));
+        }
+        return Ok(());
+    }
+    // Each record takes at least `min_bytes` (a valid one; a shorter face is an error
+    // where it is read): the loop below ends within the data, and nothing is reserved
+    // beyond what the data can hold.
+    let fits = body.remaining() / min_bytes + 1;
+    if slots.is_vertex {
+        raw.reserve(element.count.min(fits), 0);
+    }
+    if slots.is_face {
+        raw.reserve(0, element.count.min(fits));
+    }
+    let mut poly: Vec<u64> = Vec::new();
+    for r in 0..element.count {
+        let xyz = read_record(element, &slots, r, body, &mut poly, path)?;
+        if slots.is_vertex {
+            raw.positions.push(xyz);
+        }
+        if slots.is_face {
+            raw.push_polygon(&poly, path, None)?;
+        }
+    }
+    Ok(())
+}
+
+/// Read record `r` of `element`: its position (for a vertex) and its index list into
+/// `poly` (for a face).
+fn read_record(
+    element: &Element,
+    slots: &Slots,
+    r: usize,
+    body: &mut Body<'_>,
+    poly: &mut Vec<u64>,
+    path: &Path,
+) -> Result<[f64; 3]> {
+    let fail = |f: ReadFail, what: &str| match f {
+        ReadFail::End => parse_error(
+            path,
+            format!(
+                "the file ends in {} {r} of {} (truncated?)",
+                element.name, element.count
+            ),
+        ),
+        ReadFail::Bad(m) => parse_error(path, format!("{} {r}, {what}: {m}", element.name)),
+    };
+    let mut xyz = [0.0; 3];
+    for (k, p) in element.properties.iter().enumerate() {
+        match p {
+            Property::Scalar { ty, name } => {
+                let x = body.scalar(*ty).map_err(|f| fail(f, name))?;
+                if let Some(axis) = slots.coord.iter().position(|&s| s == k) {
+                    xyz[axis] = x;
                 }
             }
-            if is_vertex {
-                raw.positions.push(xyz);
-            }
-            if is_face {
-                raw.push_polygon(&poly, path, None)?;
+            Property::List { count, item, name } => {
+                let c = body.scalar(*count).map_err(|f| fail(f, name))?;
+                if c < 0.0 {
+                    return Err(fail(ReadFail::Bad(format!("negative list length {c}")), name));
+                }
+                let c = c as usize;
+                if k != slots.index {
+                    body.skip(*item, c).map_err(|f| fail(f, name))?;
+                    continue;
+                }
+                poly.clear();
+                for _ in 0..c {
+                    let x = body.scalar(*item).map_err(|f| fail(f, name))?;
+                    if x < 0.0 || x.fract() != 0.0 || x >= 2f64.powi(63) {
+                        return Err(fail(
+                            ReadFail::Bad(format!("vertex index {x} is not a non-negative integer")),
+                            name,
+                        ));
+                    }
+                    poly.push(x as u64);
+                }
             }
         }
     }
-    // Data left over means the header's counts do not describe the file.
+    Ok(xyz)
+}
+
+/// Data left over means the header's counts do not describe the file.
+fn check_no_data_left(header: &Header, mut body: Body<'_>, bytes: &[u8], path: &Path) -> Result<()> {
     let last = header.elements.last().map_or("end_header", |e| e.name.as_str());
     match header.encoding {
         Encoding::Ascii => {
@@ -476,7 +520,7 @@ pub(super) fn parse(bytes: &[u8], path: &Path) -> Result<RawMesh> {
         }
         _ => {}
     }
-    Ok(raw)
+    Ok(())
 }
 
 pub(super) fn write(

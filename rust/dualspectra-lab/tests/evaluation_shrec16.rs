@@ -1,24 +1,16 @@
-//! The SHREC'16 loader on the real data (skipped when `$DUALSPECTRA_DATA` is not set).
+//! The SHREC'16 loader on the real data (needs it: `#[ignore]`d, run with
+//! `--include-ignored`).
 //!
 //! Law checked: the ground-truth region covers the part of the full shape that the partial
 //! is, so the area of the faces whose three vertices are marked, relative to the full
 //! shape, agrees with the partial/full area ratio (the dataset README: 0.506 vs 0.494 on
 //! cuts_cat_shape_1; the shapes are near-isometric).
 
-use dualspectra::evaluation::datasets::Dataset;
+use dualspectra_lab::datasets::{data_root_for_tests, Dataset};
 
-fn dataset() -> Option<Dataset> {
-    match Dataset::from_env() {
-        None => {
-            eprintln!("SKIP: DUALSPECTRA_DATA is not set (it should hold shrec16/)");
-            None
-        }
-        Some(Err(e)) => {
-            eprintln!("SKIP: DUALSPECTRA_DATA/shrec16 is not usable: {e}");
-            None
-        }
-        Some(Ok(d)) => Some(d),
-    }
+fn dataset() -> Dataset {
+    let root = data_root_for_tests().join("shrec16");
+    Dataset::open(&root).unwrap_or_else(|e| panic!("{}: {e}", root.display()))
 }
 
 fn marked_face_area_fraction(mesh: &dualspectra::TriMesh, mask: &[bool]) -> f64 {
@@ -36,8 +28,9 @@ fn marked_face_area_fraction(mesh: &dualspectra::TriMesh, mask: &[bool]) -> f64 
 }
 
 #[test]
+#[ignore = "needs ../shared/datasets (set DUALSPECTRA_DATA)"]
 fn cat_1_ground_truth_area_matches_the_partial_area() {
-    let Some(ds) = dataset() else { return };
+    let ds = dataset();
     let pairs = ds.pairs().unwrap();
     assert!(pairs.len() >= 8, "{} pairs", pairs.len());
     let pair = pairs
@@ -65,8 +58,9 @@ fn cat_1_ground_truth_area_matches_the_partial_area() {
 }
 
 #[test]
+#[ignore = "needs ../shared/datasets (set DUALSPECTRA_DATA)"]
 fn every_pair_loads_with_a_plausible_ground_truth() {
-    let Some(ds) = dataset() else { return };
+    let ds = dataset();
     // Checks a sample (one pair per class) to keep the test fast.
     let pairs = ds.pairs().unwrap();
     let mut seen = std::collections::HashSet::new();

@@ -1,9 +1,9 @@
 //! Stability under input noise at the last bits: every coordinate of both shapes moved by a
 //! uniform random offset of relative size `EPS` (of the bounding-box diagonal), `RUNS`
 //! times per pair; prints each run's symmetry-aware IoU, the spread (max - min) per pair
-//! and the start each run chose. A research harness; numbers go to docs/benchmarks/.
+//! and the start each run chose. A research harness; numbers go to docs/benchmarks/options.md.
 //!
-//! `cargo run --release --example research_jitter -- ROOT [PAIRS_PER_SET] [RUNS] [EPS|f32] [both|partial|full]`
+//! `cargo run -p dualspectra-lab --release --example research_jitter -- ROOT [PAIRS_PER_SET] [RUNS] [EPS|f32] [both|partial|full]`
 //!
 //! `f32` instead of EPS rounds the coordinates to single precision (what a host such as
 //! Blender stores) in every moved run, run r first moved by (r - 1) * 1e-12 of the diagonal.
@@ -13,7 +13,7 @@
 //! sensitivity comes from; each run also prints the optimisation mesh's vertex count,
 //! starred where its vertices differ from the unmoved run's.
 
-use dualspectra::evaluation::datasets::{Dataset, DEV_SETS};
+use dualspectra_lab::datasets::{Dataset, DEV_SETS};
 use dualspectra::evaluation::metrics::{scores, symmetry_aware};
 use dualspectra::{Localizer, Options, Progress, TriMesh};
 
@@ -71,7 +71,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 let partial = if run > 0 && move_partial { jitter(&data.partial, if single { 1e-12 * (run - 1) as f64 } else { eps }, 2 * run + 1, single)? } else { data.partial.clone() };
                 let localizer = Localizer::new(&full, &options)?;
                 // The decimation's kept vertices, compared with the unmoved run's.
-                let kept = localizer.optimisation_vertex_origins().to_vec();
+                let kept = dualspectra::lab::optimisation_vertex_origins(&localizer).to_vec();
                 let same = first_kept.get_or_insert_with(|| kept.clone()) == &kept;
                 let found = localizer.locate(&partial, &Progress::none())?;
                 // The mesh the partial was optimised on (the finer one for a partial with holes;

@@ -1,12 +1,13 @@
 //! Every start of every pair, before optimisation, scored against the ground truth (a research
-//! harness: how good the regions are that the optimisation begins from; docs/benchmarks/).
+//! harness: how good the regions are that the optimisation begins from; docs/benchmarks/options.md).
 //!
-//! `cargo run --release --example research_starts -- DATASET [STRIDE] [OFFSET] [OPTIONS_JSON]`
+//! `cargo run -p dualspectra-lab --release --example research_starts -- DATASET [STRIDE] [OFFSET] [OPTIONS_JSON]`
 //!
 //! One line per start: pair, label, its symmetry-aware IoU. One [`Localizer`] per full shape.
 
-use dualspectra::evaluation::datasets::Dataset;
+use dualspectra_lab::datasets::Dataset;
 use dualspectra::evaluation::metrics::{scores, symmetry_aware};
+use dualspectra::lab::start_regions;
 use dualspectra::{Localizer, Options};
 use std::collections::HashMap;
 
@@ -26,7 +27,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         if !prepared.contains_key(&pair.full) {
             prepared.insert(pair.full.clone(), Localizer::new(&data.full, &options)?);
         }
-        for (label, region) in prepared[&pair.full].start_regions(&data.partial)? {
+        for (label, region) in start_regions(&prepared[&pair.full], &data.partial)? {
             let iou = match &data.gt_sym {
                 Some(sym) => symmetry_aware(&region, &data.gt, sym, None)?.0.iou,
                 None => scores(&region, &data.gt)?.iou,

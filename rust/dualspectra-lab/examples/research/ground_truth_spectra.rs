@@ -3,25 +3,29 @@
 //! potential $\tau(1 - G)$ on the (decimated) full shape against the partial's Dirichlet
 //! spectra, regular and scale-invariant, $k = 20$, $\tau = 50\,\mu_k$.
 //!
-//! `cargo run --release --example research_ground_truth_spectra -- DATASET [STRIDE] [OFFSET]`
-//! DS_RES: optimisation mesh size (default 1000; 0: full resolution). DS_SI=local: the
+//! `cargo run -p dualspectra-lab --release --example research_ground_truth_spectra -- DATASET [STRIDE] [OFFSET] [--res N] [--si local]`
+//! `--res`: optimisation mesh size (default 1000; 0: full resolution). `--si local`: the
 //! scale-invariant factor from the decimated mesh's own curvature instead of the one carried
 //! from the full resolution (`geometry::metric::transfer_factor`, what the localizer does).
 //!
 //! The ground-truth mask (triangles hit by the partial's vertices) has holes where the partial
 //! is coarser than the full shape; it is closed as the localizer closes its regions.
-use dualspectra::evaluation::datasets::Dataset;
+use dualspectra_lab::datasets::Dataset;
 use dualspectra::geometry::metric::{transfer_factor, DEFAULT_ALPHA, DEFAULT_EPS};
 use dualspectra::shape::{Metric, Shape};
 use dualspectra::spectra::{EigenParams, HamiltonianSolver};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().collect();
-    let root = args.get(1).ok_or("usage: research_ground_truth_spectra DATASET [STRIDE] [OFFSET]")?;
-    let stride: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(1);
-    let offset: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(0);
-    let res: usize = std::env::var("DS_RES").ok().and_then(|v| v.parse().ok()).unwrap_or(1000);
-    let local_si = std::env::var("DS_SI").map(|v| v == "local").unwrap_or(false);
+    let mut args = dualspectra_lab::args::from_env();
+    let res: usize = dualspectra_lab::args::take_value(&mut args, "--res")?.unwrap_or(1000);
+    let local_si = match dualspectra_lab::args::take_value::<String>(&mut args, "--si")?.as_deref() {
+        None | Some("transferred") => false,
+        Some("local") => true,
+        Some(other) => return Err(format!("--si {other}: expected local or transferred").into()),
+    };
+    let root = args.first().ok_or("usage: research_ground_truth_spectra DATASET [STRIDE] [OFFSET] [--res N] [--si local]")?;
+    let stride: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(1);
+    let offset: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(0);
     let k = 20;
     let data = Dataset::open(root)?;
     let (mut total_regular, mut total_si, mut n) = (0.0, 0.0, 0);
@@ -31,15 +35,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let full = p.full.map_positions(|q| q.map(|c| c * scale))?;
         let part = Shape::new(p.partial.map_positions(|q| q.map(|c| c * scale))?);
         let neighbors = dualspectra::mesh::topology::vertex_neighbors(&full);
-        let gt = dualspectra::region::closing::close(&p.gt, &neighbors, dualspectra::region::CLOSING_RINGS)?;
+        let gt = dualspectra::lab::region::closing::close(&p.gt, &neighbors, dualspectra::lab::region::CLOSING_RINGS)?;
         let (shape, gt) = if res > 0 && res < full.n_vertices() {
-            let d = dualspectra::mesh::decimate::decimate(&full, res as f64 / full.n_vertices() as f64)?;
+            let d = dualspectra::lab::decimate::decimate(&full, res as f64 / full.n_vertices() as f64)?;
             let gt: Vec<bool> = d.original_vertex.iter().map(|&j| gt[j as usize]).collect();
             let shape = if local_si {
                 Shape::new(d.mesh)
             } else {
                 let fine = Shape::new(full.clone());
-                let cell = dualspectra::mesh::nearest::nearest_vertices(d.mesh.vertices(), full.vertices())?;
+                let cell = dualspectra::lab::nearest::nearest_vertices(d.mesh.vertices(), full.vertices())?;
                 let fallback: Vec<f64> = d.original_vertex.iter().map(|&j| fine.scale_invariant_factor()[j as usize]).collect();
                 let s = transfer_factor(fine.scale_invariant_factor(), fine.mass(), &cell, &fallback);
                 Shape::with_scale_invariant_factor(d.mesh, DEFAULT_ALPHA, DEFAULT_EPS, s)?

@@ -1,30 +1,25 @@
-//! Decimation of SHREC'16 null shapes (skipped when `$DUALSPECTRA_DATA` is not set):
+//! Decimation of SHREC'16 null shapes (needs the data: `#[ignore]`d, run with
+//! `--include-ignored`):
 //! vertex count near the target, area kept, boundary kept, valid mesh, exact transfer at
 //! kept vertices; and the timing of SHOT on the decimated shape.
 
-use dualspectra::geometry::shot::{default_shot_radius, shot_descriptors, DEFAULT_MIN_NEIGHBORS};
-use dualspectra::mesh::decimate::decimate;
+use dualspectra::lab::shot::{default_shot_radius, shot_descriptors, DEFAULT_MIN_NEIGHBORS};
+use dualspectra::lab::decimate::decimate;
 use dualspectra::mesh::io::read_mesh;
-use dualspectra::mesh::nearest::{nearest_vertices, transfer};
+use dualspectra::lab::nearest::{nearest_vertices, transfer};
 use dualspectra::mesh::topology::{boundary_vertices, connected_components, euler_characteristic};
 use dualspectra::mesh::TriMesh;
+use dualspectra_lab::datasets::data_root_for_tests;
 use std::path::PathBuf;
 
-fn data_root() -> Option<PathBuf> {
-    let root = std::env::var_os("DUALSPECTRA_DATA")
-        .filter(|v| !v.is_empty())
-        .map(PathBuf::from)?;
-    root.join("shrec16/null/cat.off")
-        .is_file()
-        .then_some(root.join("shrec16"))
+fn data_root() -> PathBuf {
+    data_root_for_tests().join("shrec16")
 }
 
 #[test]
+#[ignore = "needs ../shared/datasets (set DUALSPECTRA_DATA)"]
 fn shrec16_null_shapes_decimate_to_half() {
-    let Some(root) = data_root() else {
-        println!("SKIPPED shrec16_null_shapes_decimate_to_half: DUALSPECTRA_DATA (with shrec16/) is not set");
-        return;
-    };
+    let root = data_root();
     for class in [
         "cat", "centaur", "david", "dog", "horse", "michael", "victoria", "wolf",
     ] {
@@ -72,11 +67,9 @@ fn shrec16_null_shapes_decimate_to_half() {
 }
 
 #[test]
+#[ignore = "needs ../shared/datasets (set DUALSPECTRA_DATA)"]
 fn shot_on_a_decimated_null_shape_timing() {
-    let Some(root) = data_root() else {
-        println!("SKIPPED shot_on_a_decimated_null_shape_timing: DUALSPECTRA_DATA (with shrec16/) is not set");
-        return;
-    };
+    let root = data_root();
     let m = read_mesh(&root.join("null/cat.off")).unwrap();
     let d = decimate(&m, 0.5).unwrap();
     let radius = default_shot_radius(&m);

@@ -3,25 +3,25 @@
 //! numbers of every (partial, full) localization are logged once, as JSON lines, so that
 //! every similarity score can be evaluated offline from one run; the baseline is the
 //! full-shape dual ShapeDNA distance of the partial ([`similarity`]). A research harness;
-//! the numbers go to docs/benchmarks/search-*.md.
+//! its numbers are the study behind the similarity score (docs/algorithm.md, "Why this score").
 //!
 //! ```text
-//! research_retrieval run ROOT LOG.jsonl [SET:STRIDE[:OFFSET] ...]   (default shrec16:4 shrec16_holes:4 pfaust_m:11:1 pfaust_h:11:1)
+//! research_retrieval [--threads N] run ROOT LOG.jsonl [SET:STRIDE[:OFFSET] ...]   (default shrec16:4 shrec16_holes:4 pfaust_m:11:1 pfaust_h:11:1)
 //! research_retrieval analyse LOG.jsonl                     top-1 and mean reciprocal rank per set and score
 //! research_retrieval time SET_DIR [REPEATS]                 preparing vs loading each full shape (median of REPEATS)
 //! ```
 //!
 //! `run` appends to LOG.jsonl and skips the pairs already in it (a stopped run resumes, and
 //! overlapping strides of one set localize a shared partial once);
-//! `DUALSPECTRA_THREADS` sets the localizer's threads (default 2).
+//! `--threads N` (anywhere) sets the localizer's threads (default 2).
 
-use dualspectra::evaluation::datasets::Dataset;
+use dualspectra_lab::datasets::Dataset;
 use dualspectra::evaluation::metrics::{scores, symmetry_aware};
 use dualspectra::evaluation::similarity::{dual_shape_dna, Descriptor};
 use dualspectra::mesh::io::{read_mesh_with_report, ReadOptions};
-use dualspectra::selection::{agreement, CandidateScore};
-use dualspectra::search::similarity_score_of;
-use dualspectra::{Candidate, Localization, Localizer, Options, Progress};
+use dualspectra::lab::selection::{agreement, similarity_score};
+use dualspectra::localizer::CandidateScore;
+use dualspectra::{Localizer, Options, Progress};
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, HashSet};
 use std::io::Write;
@@ -103,14 +103,13 @@ fn off_files(dir: &Path) -> Result<Vec<PathBuf>, Box<dyn std::error::Error>> {
     Ok(out)
 }
 
-fn run(root: &Path, log: &Path, sets: &[(String, usize, usize)]) -> Result<(), Box<dyn std::error::Error>> {
+fn run(root: &Path, log: &Path, sets: &[(String, usize, usize)], threads: usize) -> Result<(), Box<dyn std::error::Error>> {
     let mut done: HashSet<(String, String, String)> = read_log(log)
         .unwrap_or_default()
         .into_iter()
         .map(|p| (p.set, p.partial, p.full))
         .collect();
     let mut out = std::fs::OpenOptions::new().create(true).append(true).open(log)?;
-    let threads: usize = std::env::var("DUALSPECTRA_THREADS").ok().and_then(|t| t.parse().ok()).unwrap_or(2);
     let options = Options { threads, ..Options::default() };
     let read = ReadOptions { drop_isolated: true, ..ReadOptions::default() };
     for (set, stride, offset) in sets {
@@ -289,7 +288,7 @@ const SCORERS: &[Scorer] = &[
         let c = chosen(p)?;
         finite(Some((c.scores.region_cost? / n_mu(p)).sqrt() + c.scores.partial_fit?))
     }),
-    ("library score", |p| p.error.is_none().then(|| similarity_score_of(&localization(p))).and_then(|s| finite(Some(s)))),
+    ("library score", |p| p.error.is_none().then(|| library_score(p)).and_then(|s| finite(Some(s)))),
     ("sqrt(cost/n) x partial_fit", |p| {
         let c = chosen(p)?;
         finite(Some((p.cost? / n_mu(p)).sqrt() * c.scores.partial_fit?))
@@ -299,36 +298,9 @@ const SCORERS: &[Scorer] = &[
 /// The largest partial-to-full area ratio the localizer accepts.
 const AREA_LIMIT: f64 = 1.1;
 
-/// A localization with the logged numbers (no per-vertex arrays), for the library's score.
-fn localization(p: &PairLog) -> Localization {
-    Localization {
-        region: Vec::new(),
-        score: Vec::new(),
-        potential: Vec::new(),
-        eigenvalues_regular: p.eigenvalues_regular.clone(),
-        eigenvalues_si: p.eigenvalues_si.clone(),
-        target_regular: p.target_regular.clone(),
-        target_si: p.target_si.clone(),
-        cost: p.cost.unwrap_or(f64::NAN),
-        confidence: p.confidence,
-        optimisation_vertices: 0,
-        selected_start: p.selected,
-        n_starts: p.candidates.len(),
-        timings: Default::default(),
-        candidates: p
-            .candidates
-            .iter()
-            .map(|c| Candidate {
-                label: c.label.clone(),
-                cost: c.cost.unwrap_or(f64::NAN),
-                scores: c.scores,
-                iterations: 0,
-                evaluations: 0,
-                region: Vec::new(),
-            })
-            .collect(),
-        warnings: Vec::new(),
-    }
+/// The library's similarity score from the logged candidates' scores.
+fn library_score(p: &PairLog) -> f64 {
+    similarity_score(&p.candidates.iter().map(|c| c.scores).collect::<Vec<_>>())
 }
 
 /// Rank of the true full shape among a partial's (1 = first; ties broken by full-shape
@@ -387,8 +359,7 @@ fn analyse(log: &Path) -> Result<(), Box<dyn std::error::Error>> {
 
 /// Seconds to prepare each full shape of `set/null` ([`Localizer::new`]) against saving it
 /// and loading it again ([`Localizer::load`]), interleaved, the median of `repeats`.
-fn time(set: &Path, repeats: usize) -> Result<(), Box<dyn std::error::Error>> {
-    let threads: usize = std::env::var("DUALSPECTRA_THREADS").ok().and_then(|t| t.parse().ok()).unwrap_or(2);
+fn time(set: &Path, repeats: usize, threads: usize) -> Result<(), Box<dyn std::error::Error>> {
     let options = Options { threads, ..Options::default() };
     let read = ReadOptions { drop_isolated: true, ..ReadOptions::default() };
     let file = std::env::temp_dir().join(format!("research_retrieval_{}.dsprep", std::process::id()));
@@ -423,8 +394,9 @@ fn time(set: &Path, repeats: usize) -> Result<(), Box<dyn std::error::Error>> {
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let usage = "usage: research_retrieval run ROOT LOG.jsonl [SET:STRIDE ...] | analyse LOG.jsonl | time SET_DIR [REPEATS]";
+    let mut args = dualspectra_lab::args::from_env();
+    let threads: usize = dualspectra_lab::args::take_value(&mut args, "--threads")?.unwrap_or(2);
+    let usage = "usage: research_retrieval [--threads N] run ROOT LOG.jsonl [SET:STRIDE ...] | analyse LOG.jsonl | time SET_DIR [REPEATS]";
     match args.first().map(String::as_str) {
         Some("run") if args.len() >= 3 => {
             let sets: Vec<(String, usize, usize)> = if args.len() > 3 {
@@ -441,10 +413,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             } else {
                 DEFAULT_SETS.iter().map(|(s, k, o)| (s.to_string(), *k, *o)).collect()
             };
-            run(Path::new(&args[1]), Path::new(&args[2]), &sets)
+            run(Path::new(&args[1]), Path::new(&args[2]), &sets, threads)
         }
         Some("analyse") if args.len() == 2 => analyse(Path::new(&args[1])),
-        Some("time") if args.len() >= 2 => time(Path::new(&args[1]), args.get(2).map(|r| r.parse()).transpose()?.unwrap_or(3)),
+        Some("time") if args.len() >= 2 => time(Path::new(&args[1]), args.get(2).map(|r| r.parse()).transpose()?.unwrap_or(3), threads),
         _ => Err(usage.into()),
     }
 }

@@ -4,7 +4,7 @@
 //! the ground-truth mask must still mark the vertices of the triangles the rows name. When it
 //! splits a non-manifold vertex, a file vertex stands for all its copies.
 
-use dualspectra::evaluation::datasets::{ground_truth_mask, ground_truth_mask_in_file, parse_barycentric_gt, vertex_mask_in_file, Pair};
+use dualspectra_lab::datasets::{ground_truth_mask, ground_truth_mask_in_file, parse_barycentric_gt, vertex_mask_in_file, Pair};
 use dualspectra::mesh::io::{read_mesh, read_mesh_with_report, ReadOptions};
 use dualspectra::Error;
 use std::path::{Path, PathBuf};
@@ -38,7 +38,7 @@ fn dataset(name: &str, full: &Path, rows: &[usize]) -> Pair {
     std::fs::copy(data("tetrahedron.off"), root.join("cuts/cuts_shape_shape_1.off")).unwrap();
     let gt: String = rows.iter().map(|t| format!("{t} 0.2 0.3 0.5\n")).collect();
     std::fs::write(root.join("cuts/cuts_shape_shape_1.baryc_gt"), gt).unwrap();
-    let pairs = dualspectra::evaluation::datasets::Dataset::open(&root).unwrap().pairs().unwrap();
+    let pairs = dualspectra_lab::datasets::Dataset::open(&root).unwrap().pairs().unwrap();
     assert_eq!(pairs.len(), 1);
     pairs.into_iter().next().unwrap()
 }

@@ -22,11 +22,13 @@
 //! mapped through the reader's report onto the mesh it returns. The dataset root is an
 //! argument; [`data_root_from_env`] reads `$DUALSPECTRA_DATA`.
 
-use crate::error::{Error, Result};
-use crate::mesh::io::{read_mesh_with_report, ReadOptions, ReadReport};
-use crate::mesh::TriMesh;
+use dualspectra::mesh::io::{read_mesh_with_report, ReadOptions, ReadReport};
+use dualspectra::mesh::TriMesh;
+use dualspectra::{Error, Result};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
+
+pub use dualspectra::evaluation::synthetic::BarycentricRow;
 
 /// Environment variable naming the folder that holds the datasets (`shrec16/`, ...).
 pub const DATA_ENV: &str = "DUALSPECTRA_DATA";
@@ -39,6 +41,22 @@ pub fn data_root_from_env() -> Option<PathBuf> {
     std::env::var_os(DATA_ENV)
         .filter(|v| !v.is_empty())
         .map(PathBuf::from)
+}
+
+/// The folder holding the dev sets: `$DUALSPECTRA_DATA` if set, else `../shared/datasets`
+/// beside the repository if it exists (where the setup puts them).
+pub fn data_root() -> Option<PathBuf> {
+    data_root_from_env().or_else(|| {
+        let beside = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/datasets");
+        beside.is_dir().then_some(beside)
+    })
+}
+
+/// [`data_root`] for the tests that need the data (`#[ignore]`d, run with
+/// `--include-ignored`): panics with what to set when the data is absent, since a test that
+/// was asked to run must not pass without it.
+pub fn data_root_for_tests() -> PathBuf {
+    data_root().unwrap_or_else(|| panic!("the dev sets are not at ../shared/datasets beside the repository; set {DATA_ENV}"))
 }
 
 /// How a dataset's files are laid out (see the module documentation).
@@ -229,14 +247,6 @@ impl Dataset {
         pairs.sort_by(|a, b| (&a.class, a.index, &a.name).cmp(&(&b.class, b.index, &b.name)));
         Ok(pairs)
     }
-}
-
-/// One row of a `.baryc_gt` file: a triangle of the full shape (0-based here) and the
-/// barycentric weights of the partial vertex in it.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct BarycentricRow {
-    pub triangle: u32,
-    pub weights: [f64; 3],
 }
 
 /// Parse a `.baryc_gt` / `.baryc_gt_sym` file (whitespace-separated rows
@@ -533,8 +543,8 @@ pub fn write_shrec16_pair(
     let name = format!("cuts_{class}_shape_{index}");
     let full_path = null.join(format!("{class}.off"));
     let partial_path = cuts.join(format!("{name}.off"));
-    crate::mesh::io::write_off(&full_path, full)?;
-    crate::mesh::io::write_off(&partial_path, partial)?;
+    dualspectra::mesh::io::write_off(&full_path, full)?;
+    dualspectra::mesh::io::write_off(&partial_path, partial)?;
     let write_rows = |path: &Path, rows: &[BarycentricRow]| -> Result<()> {
         let mut s = String::new();
         for r in rows {
@@ -671,7 +681,7 @@ mod tests {
 
     #[test]
     fn mask_marks_the_three_vertices_and_checks_range() {
-        let m = crate::mesh::generate::grid(1.0, 1.0, 2, 2);
+        let m = dualspectra::mesh::generate::grid(1.0, 1.0, 2, 2);
         let rows = [BarycentricRow {
             triangle: 0,
             weights: [1.0, 0.0, 0.0],

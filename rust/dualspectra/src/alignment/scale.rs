@@ -1,0 +1,120 @@
+//! The partial's scale when its units are unknown (`scale = auto`; docs/algorithm.md, "Units").
+//!
+//! SHOT descriptors (Tombari et al. 2010) describe the surface inside a support ball of radius
+//! $r$; the full shape's are taken at $r_0$ = [`shot::DEFAULT_RADIUS_FRACTION`] (the full shape
+//! has unit area). The partial multiplied by $s$ and described at $r_0$ is the partial described
+//! at $r_0 / s$, so the hypothesis "the partial covers a fraction $a$ of the full shape's area"
+//! ($s = \sqrt{a / A_N}$) is scored by
+//! $$d(a) = \frac{1}{|P|}\sum_{p \in P} \min_{q} \lVert D_N(p;\, r_0/s) - D_M(q;\, r_0) \rVert,$$
+//! the mean distance of the partial's keypoints $P$ to their nearest full-shape descriptor:
+//! at the right scale the partial's patches look like the full shape's. $a$ is scanned on a
+//! log grid over $[10^{-2}, 1]$ and refined by a parabola through the best point and its
+//! neighbours (in $\log a$). Measured per dev set in docs/benchmarks/options.md ("Units").
+
+use crate::error::{Error, Result};
+use crate::geometry::shot;
+use crate::mesh::TriMesh;
+use faer::Mat;
+
+/// Smallest area fraction considered: a partial of less than 1 % of the full shape carries too
+/// little of it to place (and to size).
+pub const MIN_AREA_FRACTION: f64 = 1e-2;
+/// Grid points per decade of area fraction (a step of about 10 % in the linear factor).
+const STEPS_PER_DECADE: usize = 12;
+/// Partial keypoints described per hypothesis.
+const KEYPOINTS: usize = 200;
+
+/// The estimated area fraction $a^*$ and the factor $s = \sqrt{a^* / A_N}$ that brings
+/// `partial` (area $A_N$, in the units of a full shape of unit area, possibly wrong) to the
+/// full shape's units. `full_descriptors`: SHOT at [`shot::DEFAULT_RADIUS_FRACTION`] on the
+/// full shape of unit area (rows: keypoints).
+pub fn estimate_scale(full_descriptors: &Mat<f64>, partial: &TriMesh) -> Result<(f64, f64)> {
+    let area = partial.area();
+    if !(area > 0.0 && area.is_finite()) || full_descriptors.nrows() == 0 {
+        return Err(Error::InvalidArgument("scale = auto: no area or no full-shape descriptor to estimate the scale from".into()));
+    }
+    let n = partial.n_vertices();
+    let step = n.div_ceil(KEYPOINTS).max(1);
+    let keypoints: Vec<u32> = (0..n as u32).step_by(step).collect();
+    let decades = -MIN_AREA_FRACTION.log10();
+    let count = (decades * STEPS_PER_DECADE as f64).round() as usize + 1;
+    let log_a: Vec<f64> = (0..count).map(|i| -decades + decades * i as f64 / (count - 1) as f64).collect();
+    let costs = log_a
+        .iter()
+        .map(|&la| {
+            let s = (10f64.powf(la) / area).sqrt();
+            let d = shot::shot_keypoint_descriptors(partial, &keypoints, shot::DEFAULT_RADIUS_FRACTION / s, shot::DEFAULT_MIN_NEIGHBORS)?;
+            Ok(mean_nearest_distance(full_descriptors, &d))
+        })
+        .collect::<Result<Vec<f64>>>()?;
+    let best = (0..count).min_by(|&a, &b| costs[a].total_cmp(&costs[b])).unwrap_or(0);
+    let la = if best > 0 && best + 1 < count {
+        let (y0, y1, y2) = (costs[best - 1], costs[best], costs[best + 1]);
+        let h = log_a[1] - log_a[0];
+        let curvature = y0 - 2.0 * y1 + y2;
+        let offset = if curvature > 0.0 { 0.5 * (y0 - y2) / curvature } else { 0.0 };
+        log_a[best] + offset.clamp(-0.5, 0.5) * h
+    } else {
+        log_a[best]
+    };
+    let fraction = 10f64.powf(la);
+    Ok((fraction, (fraction / area).sqrt()))
+}
+
+/// Mean over the rows of `partial` of the Euclidean distance to the nearest row of `full`
+/// (by blocks of `full`: memory bounded).
+fn mean_nearest_distance(full: &Mat<f64>, partial: &Mat<f64>) -> f64 {
+    const BLOCK: usize = 512;
+    let d = full.ncols();
+    if partial.nrows() == 0 || partial.ncols() != d {
+        return f64::INFINITY;
+    }
+    let norm2 = |m: &Mat<f64>, i: usize| (0..d).map(|c| m[(i, c)].powi(2)).sum::<f64>();
+    let p2: Vec<f64> = (0..partial.nrows()).map(|j| norm2(partial, j)).collect();
+    let mut nearest = vec![f64::INFINITY; partial.nrows()];
+    for start in (0..full.nrows()).step_by(BLOCK) {
+        let rows = BLOCK.min(full.nrows() - start);
+        let mut dot = Mat::<f64>::zeros(rows, partial.nrows());
+        faer::linalg::matmul::matmul(dot.as_mut(), faer::Accum::Replace, full.as_ref().subrows(start, rows), partial.transpose(), 1.0, faer::Par::Seq);
+        for r in 0..rows {
+            let f2 = norm2(full, start + r);
+            for (j, best) in nearest.iter_mut().enumerate() {
+                *best = best.min((f2 + p2[j] - 2.0 * dot[(r, j)]).max(0.0));
+            }
+        }
+    }
+    nearest.iter().map(|x| x.sqrt()).sum::<f64>() / nearest.len() as f64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::evaluation::synthetic::{cut_by_plane, default_limbs, figure};
+
+    /// A plane cut of a figure with limbs, given in other units, is sized back.
+    #[test]
+    fn a_part_in_other_units_is_sized_back() {
+        let full = figure(4, &default_limbs()).unwrap();
+        let unit = 1.0 / full.area().sqrt();
+        let full = full.map_positions(|p| p.map(|c| c * unit)).unwrap();
+        let keypoints: Vec<u32> = (0..full.n_vertices() as u32).collect();
+        let descriptors =
+            shot::shot_keypoint_descriptors(&full, &keypoints, shot::DEFAULT_RADIUS_FRACTION, shot::DEFAULT_MIN_NEIGHBORS).unwrap();
+        let (cut, _) = cut_by_plane(&full, [0.3, 1.0, 0.2], 0.0).unwrap();
+        let truth = cut.area();
+        assert!((0.1..0.9).contains(&truth), "cut area {truth}");
+        for factor in [1e-3, 1.0, 1e3] {
+            let given = cut.map_positions(|p| p.map(|c| c * factor)).unwrap();
+            let (fraction, s) = estimate_scale(&descriptors, &given).unwrap();
+            let error = (fraction / truth).sqrt();
+            assert!((0.85..1.18).contains(&error), "factor {factor}: fraction {fraction} vs {truth}");
+            assert!((s * factor - 1.0).abs() < 0.18, "factor {factor}: s {s}");
+        }
+    }
+
+    #[test]
+    fn no_full_shape_descriptor_is_an_error() {
+        let mesh = crate::mesh::generate::grid(1.0, 1.0, 3, 3);
+        assert!(estimate_scale(&Mat::zeros(0, 352), &mesh).is_err());
+    }
+}
