@@ -197,7 +197,8 @@ void localize_on_worker(LocalizerCache& cache, int full_layer, const PackedLayer
         (st = ds_result_cost(result.get(), &out.cost)) != DS_OK ||
         (st = ds_result_confidence(result.get(), &out.confidence)) != DS_OK ||
         (st = ds_result_optimisation_vertices(result.get(), &out.optimised_on_vertices)) != DS_OK ||
-        (st = ds_result_seconds(result.get(), &out.seconds)) != DS_OK) {
+        (st = ds_result_seconds(result.get(), &out.seconds)) != DS_OK ||
+        (st = ds_result_scale(result.get(), &out.scale)) != DS_OK) {
         out.status = st;
         out.error = describe(st, "reading the result failed");
         return;

@@ -61,6 +61,7 @@ struct LocalizeOutcome {
     double cost = 0.0;
     double confidence = 0.0;          ///< in [0, 1]: estimated probability that IoU >= 0.5
     double seconds = 0.0;             ///< locating the partial
+    double scale = 1.0;               ///< the factor the partial was multiplied by (the estimate with scale = auto)
     double preparation_seconds = 0.0; ///< preparing the full shape (when it was prepared now)
     bool reused = false;              ///< the full shape was prepared by an earlier call
     size_t optimisation_vertices = 0; ///< of the prepared full shape's optimisation mesh

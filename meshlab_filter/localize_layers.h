@@ -34,6 +34,7 @@ struct LayersLocalized {
     double confidence = 0.0;  ///< in [0, 1]: estimated probability that IoU >= 0.5
     double cost = 0.0;
     double seconds = 0.0;     ///< locating the partial
+    double scale = 1.0;       ///< the factor the partial was multiplied by (estimated with scale = auto)
     size_t optimisation_vertices = 0; ///< of the mesh the partial was optimised on
     bool reused = false;      ///< the full shape was prepared by an earlier call
     size_t warnings = 0;      ///< the library's notes, each logged as a warning
@@ -103,6 +104,7 @@ LayersLocalized localize_layers(LocalizerCache& cache, Model* full, Model* parti
     done.confidence = out.confidence;
     done.cost = out.cost;
     done.seconds = out.seconds;
+    done.scale = out.scale;
     done.optimisation_vertices = out.optimised_on_vertices;
     done.reused = out.reused;
     done.warnings = out.warnings.size();
@@ -114,6 +116,7 @@ LayersLocalized localize_layers(LocalizerCache& cache, Model* full, Model* parti
                    QString::number(done.selected_faces) + " faces; confidence " +
                    QString::number(done.confidence, 'f', 2) + "; cost " + QString::number(done.cost, 'g', 6) +
                    "; optimised on " + QString::number(done.optimisation_vertices) + " vertices; " +
+                   (done.scale != 1.0 ? "partial scaled by " + QString::number(done.scale, 'g', 4) + "; " : QString()) +
                    QString::number(done.seconds, 'f', 2) + " s; options " +
                    QString::fromUtf8(json != nullptr ? json : ""));
     return done;
@@ -212,6 +215,7 @@ LayersRanked<Model> rank_layers(LocalizerCache& cache, const std::vector<Model*>
     best->cm.sfn = int(done.selected_faces);
     done.prepared = out.prepared;
     done.seconds = out.seconds;
+    done.scale = out.scale;
     const char* json = ds_options_json(options);
     log(false, "Ranked " + QString::number(fulls.size()) + " layer(s) for '" + partial->label() + "': best '" +
                    best->label() + "' (score " + QString::number(done.ranking.front().score, 'g', 4) +

@@ -362,6 +362,9 @@ class LocalizeOperator(JobOperator):
         for warning in result.warnings:
             self.report({'WARNING'}, warning)
         prepared = "prepared shape reused" if job.reused else f"shape prepared in {job.localizer.preparation_seconds:.2f} s"
+        scale = float(getattr(result, "scale", 1.0))
+        if scale != 1.0:
+            prepared += f", partial scaled by {scale:.4g}"
         self.report(
             {'INFO'},
             f"Selected {int(region.sum())} of {len(region)} vertices of '{full.name}' "

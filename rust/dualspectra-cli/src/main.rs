@@ -31,6 +31,8 @@ enum Command {
     Search(commands::search::Args),
     /// Prepare a full shape once and save it (.dsprep) for later searches.
     Prepare(commands::prepare::Args),
+    /// Describe a library of full shapes once (.dsscreen) for the search's screen.
+    Index(commands::index::Args),
     /// Run and score the localizer on a dataset in the SHREC'16 layout.
     Bench(commands::bench::Args),
     /// Dual ShapeDNA distances between shapes and their 2-D MDS embedding.
@@ -47,6 +49,7 @@ fn main() -> ExitCode {
         Command::Localize(args) => commands::localize::run(args),
         Command::Search(args) => commands::search::run(args),
         Command::Prepare(args) => commands::prepare::run(args),
+        Command::Index(args) => commands::index::run(args),
         Command::Bench(args) => commands::bench::run(args),
         Command::Similarity(args) => commands::similarity::run(args),
         Command::Demo(args) => commands::demo::run(args),

@@ -179,3 +179,41 @@ fn a_stale_or_foreign_prepared_file_is_a_clear_error() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.starts_with("error: ") && err.contains("missing.off"), "{err}");
 }
+
+/// `index` describes the library once; `search` on the .dsscreen with `--shortlist 1`
+/// localizes only the shape the screen ranks best (the partial's own figure), lists the
+/// others as screened out, and finds the same region as the full search.
+#[test]
+fn an_indexed_library_is_screened_and_only_the_shortlist_localized() {
+    let d = library();
+    let out_dir = tmp("screened");
+    let screen = out_dir.join("library.dsscreen");
+    let out = run(bin().args(["index", "--quiet"]).arg(d.join("library")).arg("-o").arg(&screen));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("3 shapes described"), "{}", String::from_utf8_lossy(&out.stdout));
+    let json = out_dir.join("ranking.json");
+    let out = run(bin()
+        .args(["search", "--quiet", "--shortlist", "1"])
+        .arg(d.join("partial.off"))
+        .arg(&screen)
+        .args(LIGHT)
+        .arg("--json")
+        .arg(&json));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("3 shapes screened, the 1 best localized"), "{stdout}");
+    assert_eq!(stdout.matches("screened out").count(), 2, "{stdout}");
+    let output = read_json(&json);
+    assert_eq!(names(&output)[0], "figure.off");
+    let ranking = output["ranking"].clone();
+    assert!(ranking[0]["screen_score"].is_number() && ranking[0]["score"].is_number());
+    assert!(ranking[1]["score"].is_null() && ranking[1]["error"].is_null() && ranking[1]["screen_score"].is_number());
+    let full = &searched().1["ranking"][0];
+    assert_eq!(ranking[0]["region"], full["region"], "the shortlisted shape's region is the full search's");
+    // A .dsscreen is the whole library; a wrong extension or a damaged file is a clear error.
+    let both = bin().args(["search", "--quiet"]).arg(d.join("partial.off")).arg(&screen).arg(d.join("library")).output().unwrap();
+    assert_eq!(both.status.code(), Some(2), "{}", String::from_utf8_lossy(&both.stderr));
+    let bad = out_dir.join("bad.dsscreen");
+    std::fs::write(&bad, b"DSSCREEN-truncated").unwrap();
+    let damaged = bin().args(["search", "--quiet"]).arg(d.join("partial.off")).arg(&bad).output().unwrap();
+    assert!(!damaged.status.success());
+    assert!(String::from_utf8_lossy(&damaged.stderr).contains("bad.dsscreen"), "{}", String::from_utf8_lossy(&damaged.stderr));
+}

@@ -41,7 +41,7 @@ pub use error::{Error, MeshError, Result};
 pub use localizer::{localize, Candidate, Localization, Localizer, Mode, Options, Scale, Timings};
 pub use mesh::TriMesh;
 pub use progress::Progress;
-pub use search::{search, search_with, Match};
+pub use search::{search, search_screened, search_with, Match, Screen, ScreenEntry};
 
 /// The README's Rust example, compiled and run as a doc test.
 #[cfg(doctest)]
@@ -92,6 +92,21 @@ pub mod lab {
         pub use crate::localizer::persist::{crc32, FORMAT_VERSION, MAGIC};
     }
     pub use crate::localizer::stages::{FINE_RESOLUTION_FACTOR, HOLE_RIM_FRACTION};
+
+    /// [`crate::search::ScreenEntry::new`] with `keypoints` keypoints.
+    pub fn screen_entry_with_keypoints(full: &TriMesh, keypoints: usize) -> Result<crate::search::ScreenEntry> {
+        crate::search::ScreenEntry::with_keypoints(full, keypoints)
+    }
+
+    /// [`crate::search::Screen::rank`], choosing how `scale = auto` scores.
+    pub fn screen_rank(screen: &crate::search::Screen, partial: &TriMesh, scale: crate::Scale, relative_auto: bool) -> Result<Vec<(usize, f64)>> {
+        screen.rank_with(partial, scale, relative_auto, &Progress::none())
+    }
+
+    /// [`crate::search::Screen::new`] with `dimensions` principal directions (352: none).
+    pub fn screen_with_dimensions(entries: &[crate::search::ScreenEntry], dimensions: usize) -> Result<crate::search::Screen> {
+        crate::search::Screen::with_dimensions(entries, dimensions)
+    }
 
     /// [`Localizer::locate`] with extra starts: each mask (one `bool` per vertex of the
     /// full mesh) is a guess of the region, started from as $w_0 = 2 - 4R_0$ (labelled

@@ -5,6 +5,7 @@ pub mod curvature;
 pub mod spectrum;
 pub mod bench;
 pub mod demo;
+pub mod index;
 pub mod localize;
 pub mod prepare;
 pub mod search;

@@ -28,7 +28,8 @@ use crate::output::{check_output_path, print_stdout, to_json_line, write_text};
 use crate::render;
 use dualspectra::localizer::EXTENSION;
 use dualspectra::localizer::HostNumbering;
-use dualspectra::{Localizer, Match, Options, Progress, TriMesh};
+use dualspectra::search::SCREEN_EXTENSION;
+use dualspectra::{Localizer, Match, Options, Progress, Screen, ScreenEntry, TriMesh};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -55,6 +56,11 @@ pub struct Args {
     /// and the back with its region in red, labelled with rank, name and score.
     #[arg(long, value_name = "OUT")]
     pub png: Option<PathBuf>,
+    /// With more than N shapes, localize only the N that the screen ranks best (a few SHOT
+    /// descriptors per shape; the others are listed as screened out). A number at least the
+    /// shapes' count localizes every shape.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_SHORTLIST)]
+    pub shortlist: usize,
     #[command(flatten)]
     pub options: LocalizeOptions,
     /// Drop vertices that belong to no face instead of failing.
@@ -63,6 +69,21 @@ pub struct Args {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+}
+
+/// Shapes localized after the screen by default (docs/benchmarks/options.md, "Library
+/// screen": the right class is among the screen's first 10 for most library queries).
+pub const DEFAULT_SHORTLIST: usize = 10;
+
+/// The screen of `paths` (meshes or prepared shapes), read one at a time.
+pub fn describe_for_screen(paths: &[PathBuf], drop_isolated: bool, progress: &Progress) -> Result<Screen, CliError> {
+    let mut entries = Vec::with_capacity(paths.len());
+    for (i, path) in paths.iter().enumerate() {
+        progress.report(i as f64 / paths.len() as f64, "describing the shapes")?;
+        let mesh = if has_extension(path, EXTENSION) { Localizer::load(path)?.full_mesh() } else { read_input_mesh(path, drop_isolated)?.0 };
+        entries.push(ScreenEntry::new(&mesh).map_err(|e| CliError::Core(e.in_file(path)))?);
+    }
+    Ok(Screen::new(&entries)?)
 }
 
 /// Shapes drawn by `--png` (the best ones): two rows of three.
@@ -167,6 +188,8 @@ struct Ranked<'a> {
     /// The region: 0-based vertex indices of the shape's file.
     region: Vec<usize>,
     error: Option<&'a str>,
+    /// The screen's score (lower is more similar) when the search was screened.
+    screen_score: Option<f64>,
     warnings: &'a [String],
 }
 
@@ -182,7 +205,20 @@ struct Output<'a> {
 pub fn run(args: Args) -> Result<(), CliError> {
     let options = args.options.to_options()?;
     let threads = args.options.given_names().contains(&"threads").then_some(options.threads);
-    let paths = expand_fulls(&args.fulls)?;
+    if args.shortlist == 0 {
+        return Err(CliError::Usage("--shortlist must be at least 1".into()));
+    }
+    let given_screen = match args.fulls.iter().position(|p| has_extension(p, SCREEN_EXTENSION)) {
+        Some(_) if args.fulls.len() > 1 => {
+            return Err(CliError::Usage(format!("a .{SCREEN_EXTENSION} file is the whole library: give it alone")))
+        }
+        Some(i) => Some(Screen::load(&args.fulls[i])?),
+        None => None,
+    };
+    let paths = match &given_screen {
+        Some(screen) => super::index::screen_paths(screen, &args.fulls[0]),
+        None => expand_fulls(&args.fulls)?,
+    };
     let mut inputs: Vec<&Path> = paths.iter().map(PathBuf::as_path).collect();
     inputs.push(&args.partial);
     for out in [&args.json, &args.png].into_iter().flatten() {
@@ -227,7 +263,18 @@ pub fn run(args: Args) -> Result<(), CliError> {
         }
         Ok::<_, CliError>(localizer)
     };
-    let found = dualspectra::search_with(&partial, shapes.len(), open, args.top.unwrap_or(usize::MAX), &progress);
+    let top = args.top.unwrap_or(usize::MAX);
+    let screened = args.shortlist < shapes.len();
+    let found = if screened {
+        let screen = match given_screen {
+            Some(screen) => screen,
+            None => describe_for_screen(&paths, args.drop_isolated, &progress.sub(0.0, 0.2))?,
+        };
+        let rest = if args.fulls.iter().any(|p| has_extension(p, SCREEN_EXTENSION)) { progress.clone() } else { progress.sub(0.2, 1.0) };
+        dualspectra::search_screened(&partial, &screen, options.scale, args.shortlist, open, top, &rest)
+    } else {
+        dualspectra::search_with(&partial, shapes.len(), open, top, &progress)
+    };
     bar.finish_and_clear();
     // The partial's own errors (a closed partial, ...) name its file.
     let found: Vec<Match> = found.map_err(|e| match e {
@@ -265,6 +312,7 @@ pub fn run(args: Args) -> Result<(), CliError> {
             cost: loc.map(|l| l.cost),
             region,
             error: m.error.as_deref(),
+            screen_score: m.screen_score,
             warnings: loc.map_or(&[], |l| l.warnings.as_slice()),
         });
     }
@@ -278,7 +326,10 @@ pub fn run(args: Args) -> Result<(), CliError> {
                 r.rank,
                 format!("{}/{}", r.region_vertices, r.n_vertices)
             )),
-            _ => table.push_str(&format!("{:>4}  {name:<name_width$}  failed: {}\n", r.rank, r.error.unwrap_or("no region"))),
+            _ => match (r.error, m.screen_score) {
+                (None, Some(screen)) => table.push_str(&format!("{:>4}  {name:<name_width$}  screened out (screen score {screen:.4})\n", r.rank)),
+                (error, _) => table.push_str(&format!("{:>4}  {name:<name_width$}  failed: {}\n", r.rank, error.unwrap_or("no region"))),
+            },
         }
     }
     for (r, m) in ranking.iter().zip(&found) {
@@ -309,6 +360,10 @@ pub fn run(args: Args) -> Result<(), CliError> {
             pictured.len()
         ));
     }
-    table.push_str(&format!("{} shapes searched in {seconds:.2} s\n", paths.len()));
+    if screened {
+        table.push_str(&format!("{} shapes screened, the {} best localized, in {seconds:.2} s\n", paths.len(), args.shortlist));
+    } else {
+        table.push_str(&format!("{} shapes searched in {seconds:.2} s\n", paths.len()));
+    }
     print_stdout(&table)
 }

@@ -36,9 +36,8 @@ pub fn estimate_scale(full_descriptors: &Mat<f64>, partial: &TriMesh) -> Result<
     let n = partial.n_vertices();
     let step = n.div_ceil(KEYPOINTS).max(1);
     let keypoints: Vec<u32> = (0..n as u32).step_by(step).collect();
-    let decades = -MIN_AREA_FRACTION.log10();
-    let count = (decades * STEPS_PER_DECADE as f64).round() as usize + 1;
-    let log_a: Vec<f64> = (0..count).map(|i| -decades + decades * i as f64 / (count - 1) as f64).collect();
+    let log_a = area_grid();
+    let count = log_a.len();
     let costs = log_a
         .iter()
         .map(|&la| {
@@ -59,6 +58,36 @@ pub fn estimate_scale(full_descriptors: &Mat<f64>, partial: &TriMesh) -> Result<
     };
     let fraction = 10f64.powf(la);
     Ok((fraction, (fraction / area).sqrt()))
+}
+
+/// The area-fraction hypotheses, $\log_{10} a$ from $\log_{10}$ [`MIN_AREA_FRACTION`] to 0,
+/// [`STEPS_PER_DECADE`] per decade.
+pub(crate) fn area_grid() -> Vec<f64> {
+    let decades = -MIN_AREA_FRACTION.log10();
+    let count = (decades * STEPS_PER_DECADE as f64).round() as usize + 1;
+    (0..count).map(|i| -decades + decades * i as f64 / (count - 1) as f64).collect()
+}
+
+/// Per row of `query`, the Euclidean distance to the nearest row of `model` (single
+/// precision; `model_norms2` are `model`'s squared row norms), by blocks of `query`.
+pub(crate) fn nearest_distances(model: &Mat<f32>, model_norms2: &[f32], query: faer::MatRef<'_, f32>) -> Vec<f32> {
+    const BLOCK: usize = 1024;
+    let mut out = vec![f32::INFINITY; query.nrows()];
+    if model.nrows() == 0 || model.ncols() != query.ncols() {
+        return out;
+    }
+    for start in (0..query.nrows()).step_by(BLOCK) {
+        let rows = BLOCK.min(query.nrows() - start);
+        let q = query.subrows(start, rows);
+        let mut dot = Mat::<f32>::zeros(model.nrows(), rows);
+        faer::linalg::matmul::matmul(dot.as_mut(), faer::Accum::Replace, model.as_ref(), q.transpose(), 1.0f32, faer::Par::Seq);
+        for j in 0..rows {
+            let q2: f32 = (0..q.ncols()).map(|c| q[(j, c)] * q[(j, c)]).sum();
+            let best = (0..model.nrows()).map(|r| model_norms2[r] - 2.0 * dot[(r, j)]).fold(f32::INFINITY, f32::min);
+            out[start + j] = (best + q2).max(0.0).sqrt();
+        }
+    }
+    out
 }
 
 /// Mean over the rows of `partial` of the Euclidean distance to the nearest row of `full`

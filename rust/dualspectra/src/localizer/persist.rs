@@ -297,34 +297,34 @@ fn read_payload(r: &mut Reader<'_>) -> std::result::Result<Localizer, String> {
 
 /// A growing little-endian byte buffer.
 #[derive(Default)]
-struct Writer(Vec<u8>);
+pub(crate) struct Writer(pub(crate) Vec<u8>);
 
 impl Writer {
-    fn u8(&mut self, x: u8) {
+    pub(crate) fn u8(&mut self, x: u8) {
         self.0.push(x);
     }
-    fn u32(&mut self, x: u32) {
+    pub(crate) fn u32(&mut self, x: u32) {
         self.0.extend_from_slice(&x.to_le_bytes());
     }
-    fn u64(&mut self, x: u64) {
+    pub(crate) fn u64(&mut self, x: u64) {
         self.0.extend_from_slice(&x.to_le_bytes());
     }
-    fn f64(&mut self, x: f64) {
+    pub(crate) fn f64(&mut self, x: f64) {
         self.0.extend_from_slice(&x.to_le_bytes());
     }
-    fn string(&mut self, s: &str) {
+    pub(crate) fn string(&mut self, s: &str) {
         self.u32(s.len() as u32);
         self.0.extend_from_slice(s.as_bytes());
     }
-    fn f64s(&mut self, v: &[f64]) {
+    pub(crate) fn f64s(&mut self, v: &[f64]) {
         self.u64(v.len() as u64);
         v.iter().for_each(|&x| self.f64(x));
     }
-    fn u32s(&mut self, v: &[u32]) {
+    pub(crate) fn u32s(&mut self, v: &[u32]) {
         self.u64(v.len() as u64);
         v.iter().for_each(|&x| self.u32(x));
     }
-    fn mesh(&mut self, m: &TriMesh) {
+    pub(crate) fn mesh(&mut self, m: &TriMesh) {
         self.u64(m.n_vertices() as u64);
         m.vertices().iter().flatten().for_each(|&c| self.f64(c));
         self.u64(m.n_faces() as u64);
@@ -333,16 +333,16 @@ impl Writer {
 }
 
 /// Reads the payload, checking every count against the bytes left before allocating.
-struct Reader<'a> {
-    bytes: &'a [u8],
-    at: usize,
+pub(crate) struct Reader<'a> {
+    pub(crate) bytes: &'a [u8],
+    pub(crate) at: usize,
 }
 
 impl<'a> Reader<'a> {
-    fn remaining(&self) -> usize {
+    pub(crate) fn remaining(&self) -> usize {
         self.bytes.len() - self.at
     }
-    fn take(&mut self, n: usize) -> std::result::Result<&'a [u8], String> {
+    pub(crate) fn take(&mut self, n: usize) -> std::result::Result<&'a [u8], String> {
         if n > self.remaining() {
             return Err(format!("needs {n} more bytes at offset {}, {} left", self.at, self.remaining()));
         }
@@ -350,26 +350,26 @@ impl<'a> Reader<'a> {
         self.at += n;
         Ok(out)
     }
-    fn array<const N: usize>(&mut self) -> std::result::Result<[u8; N], String> {
+    pub(crate) fn array<const N: usize>(&mut self) -> std::result::Result<[u8; N], String> {
         let mut out = [0u8; N];
         out.copy_from_slice(self.take(N)?);
         Ok(out)
     }
-    fn u8(&mut self) -> std::result::Result<u8, String> {
+    pub(crate) fn u8(&mut self) -> std::result::Result<u8, String> {
         Ok(self.array::<1>()?[0])
     }
-    fn u32(&mut self) -> std::result::Result<u32, String> {
+    pub(crate) fn u32(&mut self) -> std::result::Result<u32, String> {
         Ok(u32::from_le_bytes(self.array()?))
     }
-    fn u64(&mut self) -> std::result::Result<u64, String> {
+    pub(crate) fn u64(&mut self) -> std::result::Result<u64, String> {
         Ok(u64::from_le_bytes(self.array()?))
     }
-    fn f64(&mut self) -> std::result::Result<f64, String> {
+    pub(crate) fn f64(&mut self) -> std::result::Result<f64, String> {
         Ok(f64::from_le_bytes(self.array()?))
     }
     /// A count of items of at least `item_bytes` bytes each (0: a plain number), checked
     /// against the bytes left.
-    fn count(&mut self, item_bytes: usize, what: &str) -> std::result::Result<usize, String> {
+    pub(crate) fn count(&mut self, item_bytes: usize, what: &str) -> std::result::Result<usize, String> {
         let n = self.u64()?;
         let fits = match item_bytes {
             0 => n <= u32::MAX as u64 * 4,
@@ -380,27 +380,27 @@ impl<'a> Reader<'a> {
         }
         Ok(n as usize)
     }
-    fn string(&mut self) -> std::result::Result<String, String> {
+    pub(crate) fn string(&mut self) -> std::result::Result<String, String> {
         let n = self.u32()? as usize;
         let start = self.at;
         let raw = self.take(n)?;
         String::from_utf8(raw.to_vec()).map_err(|_| format!("the string at offset {start} is not UTF-8"))
     }
-    fn f64_array(&mut self, n: usize) -> std::result::Result<Vec<f64>, String> {
+    pub(crate) fn f64_array(&mut self, n: usize) -> std::result::Result<Vec<f64>, String> {
         let raw = self.take(n.checked_mul(8).ok_or("an array length overflows")?)?;
         Ok(raw.chunks_exact(8).map(|c| f64::from_le_bytes(c.try_into().unwrap_or([0; 8]))).collect())
     }
-    fn f64s(&mut self) -> std::result::Result<Vec<f64>, String> {
+    pub(crate) fn f64s(&mut self) -> std::result::Result<Vec<f64>, String> {
         let n = self.count(8, "values")?;
         self.f64_array(n)
     }
-    fn u32_array_counted(&mut self, item: usize) -> std::result::Result<Vec<u32>, String> {
+    pub(crate) fn u32_array_counted(&mut self, item: usize) -> std::result::Result<Vec<u32>, String> {
         let n = self.count(item, "indices")?;
         let raw = self.take(n * 4)?;
         Ok(raw.chunks_exact(4).map(|c| u32::from_le_bytes(c.try_into().unwrap_or([0; 4]))).collect())
     }
     /// `len` indices, each below `bound`.
-    fn indices(&mut self, len: usize, bound: usize, what: &str) -> std::result::Result<Vec<u32>, String> {
+    pub(crate) fn indices(&mut self, len: usize, bound: usize, what: &str) -> std::result::Result<Vec<u32>, String> {
         let v = self.u32_array_counted(4)?;
         if v.len() != len {
             return Err(format!("{what}: {} entries, expected {len}", v.len()));
@@ -411,7 +411,7 @@ impl<'a> Reader<'a> {
         Ok(v)
     }
     /// Rows of `len` values each.
-    fn f64_rows(&mut self, len: usize, what: &str) -> std::result::Result<Vec<Vec<f64>>, String> {
+    pub(crate) fn f64_rows(&mut self, len: usize, what: &str) -> std::result::Result<Vec<Vec<f64>>, String> {
         let n = self.count(8, what)?;
         (0..n)
             .map(|i| {
@@ -423,7 +423,7 @@ impl<'a> Reader<'a> {
             })
             .collect()
     }
-    fn mesh(&mut self, what: &str) -> std::result::Result<TriMesh, String> {
+    pub(crate) fn mesh(&mut self, what: &str) -> std::result::Result<TriMesh, String> {
         let nv = self.count(24, what)?;
         let coords = self.f64_array(3 * nv)?;
         let nf = self.count(12, what)?;

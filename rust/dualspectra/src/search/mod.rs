@@ -8,6 +8,10 @@
 //! dimensionless quantities, so scores of full shapes of different size and meshing are
 //! compared directly; the ranking by score is the answer, best first.
 
+mod screen;
+
+pub use screen::{Screen, ScreenEntry, SCREEN_EXTENSION};
+
 use crate::error::{Error, Result};
 use crate::localizer::{Localization, Localizer};
 use crate::mesh::TriMesh;
@@ -28,6 +32,11 @@ pub struct Match {
     pub localization: Option<Localization>,
     /// Why the partial could not be located on this shape (e.g. it is larger than it).
     pub error: Option<String>,
+    /// The screen's score of this shape ([`Screen::rank`]; lower is more similar) when the
+    /// search was screened ([`search_screened`]); a shape screened out has no localization
+    /// and no error.
+    #[serde(default)]
+    pub screen_score: Option<f64>,
 }
 
 /// Locate `partial` on every shape of `fulls` and rank them: the `top` best [`Match`]es
@@ -66,11 +75,11 @@ where
             shape.borrow().locate(partial, &part.sub(0.1, 1.0))
         };
         let m = match located {
-            Ok(localization) => Match { index, score: localization.similarity_score, localization: Some(localization), error: None },
+            Ok(localization) => Match { index, score: localization.similarity_score, localization: Some(localization), error: None, screen_score: None },
             Err(Error::Cancelled) => return Err(Error::Cancelled.into()),
             Err(e) => {
                 failures += 1;
-                let m = Match { index, score: f64::INFINITY, localization: None, error: Some(e.to_string()) };
+                let m = Match { index, score: f64::INFINITY, localization: None, error: Some(e.to_string()), screen_score: None };
                 first_error.get_or_insert(e);
                 m
             }
@@ -86,6 +95,48 @@ where
     }
     progress.report(1.0, "searched")?;
     Ok(kept)
+}
+
+/// [`search_with`] after a screen: the `n = screen.len()` shapes are scored by `screen`
+/// ([`Screen::rank`], with the partial's `scale`) and only the `shortlist` best are opened
+/// (`open(i, progress)`, `i` the shape's index in the screen) and localized. The answer ranks
+/// the localized shapes by similarity score, then the others in screen order (screened out:
+/// no localization, no error, score `+inf`), each with its [`Match::screen_score`]; the
+/// `top` best are returned. With `shortlist >= n` every shape is localized, as by
+/// [`search_with`]. The screen takes the first 5 % of `progress`.
+pub fn search_screened<L, E>(
+    partial: &TriMesh,
+    screen: &Screen,
+    scale: crate::localizer::Scale,
+    shortlist: usize,
+    mut open: impl FnMut(usize, &Progress) -> std::result::Result<L, E>,
+    top: usize,
+    progress: &Progress,
+) -> std::result::Result<Vec<Match>, E>
+where
+    L: Borrow<Localizer>,
+    E: From<Error>,
+{
+    if shortlist == 0 {
+        return Err(Error::InvalidArgument("search: the shortlist must hold at least one shape".into()).into());
+    }
+    let screened = screen.rank(partial, scale, &progress.sub(0.0, 0.05))?;
+    let chosen: Vec<usize> = screened.iter().take(shortlist).map(|r| r.0).collect();
+    let mut found = search_with(partial, chosen.len(), |i, p| open(chosen[i], p), usize::MAX, &progress.sub(0.05, 1.0))?;
+    let screen_score = |index: usize| screened.iter().find(|r| r.0 == index).map(|r| r.1);
+    for m in &mut found {
+        m.index = chosen[m.index];
+        m.screen_score = screen_score(m.index);
+    }
+    found.extend(screened.iter().skip(shortlist).map(|&(index, s)| Match {
+        index,
+        score: f64::INFINITY,
+        localization: None,
+        error: None,
+        screen_score: Some(s),
+    }));
+    found.truncate(top);
+    Ok(found)
 }
 
 /// The order of a ranking of `(similarity score, full shape index)`: lowest score (most
