@@ -216,3 +216,21 @@ def test_batch_on_a_local_dask_cluster_equals_the_serial_run(
         workers = {w["id"] for w in client.scheduler_info()["workers"].values()}
     assert [[batch_key(m) for m in r] for r in got] == [[batch_key(m) for m in r] for r in serial]
     assert seen == [1 / 3, 2 / 3, 1.0] and len(workers) == 2
+
+
+def test_a_screened_search_localizes_only_the_shortlist(library: List[Mesh], partials: List[Mesh]) -> None:
+    """With ``shortlist=1`` the screen ranks the three shapes, the partial is located on the
+    best one only (its own figure), and the others follow screened out with a screen score."""
+    found = ds.search(partials[0], library, shortlist=1, **LIGHT)
+    assert [m.index for m in found][0] == 1
+    assert found[0].localization is not None and found[0].screen_score is not None
+    rest = found[1:]
+    assert len(rest) == 2
+    assert all(m.localization is None and m.error is None and m.score == float("inf") for m in rest)
+    assert all(m.screen_score is not None and m.screen_score >= found[0].screen_score for m in rest)
+    # The full search gives the shortlisted shape the same localization.
+    full = ds.search(partials[0], library, **LIGHT)
+    assert full[0].index == 1 and full[0].screen_score is None
+    np.testing.assert_array_equal(full[0].localization.region, found[0].localization.region)
+    with pytest.raises(ValueError, match="shortlist"):
+        ds.search(partials[0], library, shortlist=0, **LIGHT)

@@ -22,6 +22,8 @@ pub struct Match {
     localization: Option<Py<Localization>>,
     #[pyo3(get)]
     error: Option<String>,
+    #[pyo3(get)]
+    screen_score: Option<f64>,
 }
 
 #[pymethods]
@@ -37,7 +39,10 @@ impl Match {
 /// Native `search`: locate the partial `(vertices, faces)` on every prepared shape of `fulls`
 /// and return the `top` best matches (all when `None`), best first (`dualspectra::search`).
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, fulls, top=None, progress=None))]
+/// With `shortlist` below the number of shapes, the shapes are screened first
+/// (`dualspectra::search_screened`, with the first shape's `scale` option) and only the
+/// `shortlist` best are localized.
+#[pyo3(signature = (vertices, faces, fulls, top=None, progress=None, shortlist=None))]
 pub fn search(
     py: Python<'_>,
     vertices: PyReadonlyArray2<'_, f64>,
@@ -45,11 +50,21 @@ pub fn search(
     fulls: Vec<Py<Localizer>>,
     top: Option<usize>,
     progress: Option<Py<PyAny>>,
+    shortlist: Option<usize>,
 ) -> PyResult<Vec<Match>> {
     check_callable(py, &progress)?;
     let partial = intake("partial mesh", &vertices, &faces)?;
     let shapes: Vec<&dualspectra::Localizer> = fulls.iter().map(|f| &f.get().inner).collect();
-    let found = with_progress(py, progress, |p| dualspectra::search(&partial.mesh, &shapes, top.unwrap_or(usize::MAX), p))?;
+    let top = top.unwrap_or(usize::MAX);
+    let found = with_progress(py, progress, |p| match shortlist {
+        Some(n) if n < shapes.len() => {
+            let entries = shapes.iter().map(|s| dualspectra::ScreenEntry::new(&s.full_mesh())).collect::<dualspectra::Result<Vec<_>>>()?;
+            let screen = dualspectra::Screen::new(&entries)?;
+            let scale = shapes[0].options().scale;
+            dualspectra::search_screened(&partial.mesh, &screen, scale, n, |i, _| Ok::<_, dualspectra::Error>(shapes[i]), top, p)
+        }
+        _ => dualspectra::search(&partial.mesh, &shapes, top, p),
+    })?;
     found
         .into_iter()
         .map(|m| {
@@ -58,7 +73,7 @@ pub fn search(
                 .localization
                 .map(|l| Localization::new(py, l, &full.host, full.notes_for(&partial)).and_then(|l| Py::new(py, l)))
                 .transpose()?;
-            Ok(Match { index: m.index, score: m.score, localization, error: m.error })
+            Ok(Match { index: m.index, score: m.score, localization, error: m.error, screen_score: m.screen_score })
         })
         .collect()
 }

@@ -83,9 +83,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 for pair in &pairs {
                     let (partial, _) = read_mesh_with_report(&pair.partial, &ReadOptions::default())?;
                     let (right, own): (String, Option<String>) = if set.starts_with("pfaust") {
-                        let stem = pair.full.file_stem().and_then(|s| s.to_str()).unwrap_or("").to_string();
-                        let person = stem.trim_start_matches("tr_reg_").chars().nth(1).unwrap_or('?');
-                        (format!("faust_person_{person}"), Some(format!("faust_{stem}")))
+                        // The partial `tr_reg_0PQ` is cut from the library's `faust_tr_reg_0PQ`
+                        // (person P, pose Q), which is left out.
+                        let person = pair.name.trim_start_matches("tr_reg_").chars().nth(1).unwrap_or('?');
+                        (format!("faust_person_{person}"), Some(format!("faust_{}", pair.name)))
                     } else {
                         (pair.class.clone(), None)
                     };

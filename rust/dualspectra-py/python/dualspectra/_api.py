@@ -374,12 +374,15 @@ def search(
     fulls: Sequence[FullShape],
     *,
     top: Optional[int] = None,
+    shortlist: Optional[int] = None,
     progress: Optional[ProgressCallback] = None,
     **options: OptionValue,
 ) -> List[Match]:
     """Which of the full shapes is the partial shape a part of, and where: the partial is
     located on each and the shapes are ranked by :attr:`Localization.similarity_score`
-    (lower is more similar; comparable across shapes of different size and meshing).
+    (lower is more similar; comparable across shapes of different size and meshing). With
+    ``shortlist`` below the number of shapes, a screen (a few SHOT descriptors per shape)
+    ranks them first and the partial is located on the ``shortlist`` best only.
 
     Args:
         partial: the partial shape N, ``(vertices, faces)``.
@@ -387,6 +390,10 @@ def search(
             they were prepared with), meshes ``(vertices, faces)`` (prepared here with
             ``options``) or paths of prepared shapes (``.dsprep``, :meth:`Localizer.load`).
         top: return the ``top`` best matches only (default: all).
+        shortlist: locate the partial on the ``shortlist`` shapes the screen ranks best
+            (default: every shape, no screen); the others follow in screen order with
+            ``localization = None``, ``error = None`` and their ``screen_score``. The screen
+            uses the first shape's ``scale`` option.
         progress: optional ``callback(fraction, stage)`` over the whole search (preparing
             the meshes, then locating on each shape); returning ``False`` cancels.
         **options: the core's options by name, for the meshes of ``fulls`` (as for
@@ -410,6 +417,8 @@ def search(
     checked = _check_fulls(fulls, options)
     if top is not None:
         top = _count(top, "top")
+    if shortlist is not None:
+        shortlist = _count(shortlist, "shortlist")
     # Progress: one unit per mesh to prepare, one per shape to locate on.
     meshes = sum(isinstance(f, tuple) for f in checked)
     units = max(1, meshes + len(checked))
@@ -421,7 +430,7 @@ def search(
             part = _span(progress, done / units, (done + 1) / units)
             done += 1
         localizers.append(_prepared(full, options, part))
-    found = _dualspectra.search(pv, pf, [loc._native for loc in localizers], top, _span(progress, done / units, 1.0))
+    found = _dualspectra.search(pv, pf, [loc._native for loc in localizers], top, _span(progress, done / units, 1.0), shortlist)
     # The partial's notes once, not once per shape; each shape's own notes were given when it
     # was prepared or loaded.
     seen: Set[str] = set()

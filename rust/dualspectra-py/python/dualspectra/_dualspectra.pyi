@@ -200,6 +200,10 @@ class Match:
     @property
     def error(self) -> Optional[str]:
         """Why the partial could not be located on this shape (``None`` when it was)."""
+    @property
+    def screen_score(self) -> Optional[float]:
+        """The screen's score of this shape (lower is more similar) when the search was
+        screened (``shortlist``); a shape screened out has no localization and no error."""
 
 def localize(
     full_vertices: NDArray[np.float64],
@@ -215,6 +219,7 @@ def search(
     fulls: List[Localizer],
     top: Optional[int] = None,
     progress: _Progress = None,
+    shortlist: Optional[int] = None,
 ) -> List[Match]: ...
 def rank(scored: Sequence[Tuple[float, int]], top: Optional[int] = None) -> List[int]: ...
 def options_schema() -> List[Dict[str, Any]]: ...
