@@ -282,7 +282,7 @@ void Localizer::save(const std::string& path) const {
 }
 
 std::vector<Match> search(const Mesh& partial, const std::vector<const Localizer*>& localizers, std::size_t top,
-                          const ProgressCallback& progress) {
+                          const ProgressCallback& progress, std::size_t shortlist) {
   rust::Box<detail::LocalizerList> list = detail::localizer_list_new();
   for (std::size_t i = 0; i < localizers.size(); ++i) {
     if (localizers[i] == nullptr)
@@ -291,7 +291,7 @@ std::vector<Match> search(const Mesh& partial, const std::vector<const Localizer
   }
   const detail::ProgressSink sink(progress);
   const rust::Vec<detail::MatchData> found =
-      with_progress(sink, [&] { return detail::search(partial.data(), *list, top, sink); });
+      with_progress(sink, [&] { return detail::search(partial.data(), *list, top, shortlist, sink); });
   std::vector<Match> out;
   out.reserve(found.size());
   for (const detail::MatchData& d : found) {
@@ -301,17 +301,18 @@ std::vector<Match> search(const Mesh& partial, const std::vector<const Localizer
     m.located = d.located;
     if (d.located) m.localization = to_localization(d.localization);
     m.error = std::string(d.error);
+    m.screen_score = d.screen_score;
     out.push_back(std::move(m));
   }
   return out;
 }
 
 std::vector<Match> search(const Mesh& partial, const std::vector<Localizer>& localizers, std::size_t top,
-                          const ProgressCallback& progress) {
+                          const ProgressCallback& progress, std::size_t shortlist) {
   std::vector<const Localizer*> pointers;
   pointers.reserve(localizers.size());
   for (const Localizer& l : localizers) pointers.push_back(&l);
-  return search(partial, pointers, top, progress);
+  return search(partial, pointers, top, progress, shortlist);
 }
 
 Localization localize(const Mesh& full, const Mesh& partial, const Options& options, const ProgressCallback& progress) {

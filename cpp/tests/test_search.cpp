@@ -4,6 +4,7 @@
 // similarity_score; a saved localizer loads back and locates and searches as the saved one
 // did; foreign and stale files throw Status::InvalidPreparedShape, bad arguments
 // InvalidArgument, and the progress callback cancels.
+#include <cmath>
 #include <dualspectra/dualspectra.hpp>
 
 #include <cstdio>
@@ -149,6 +150,21 @@ int main() {
   std::remove(saved.c_str());
   std::remove(stale.c_str());
   std::remove(foreign.c_str());
+
+  // A screened search with a shortlist of 1 locates the part on the shape the screen ranks
+  // best only; the others follow not located, without an error, with their screen score.
+  const auto screened = dualspectra::search(partial, library, 10, {}, 1);
+  t.check(screened.size() == library.size() && screened[0].index == right && screened[0].located &&
+              screened[0].localization.region == best.region,
+          "shortlist 1: the shape the part was cut from, located as by the full search");
+  bool rest = true;
+  for (std::size_t i = 1; i < screened.size(); ++i)
+    rest = rest && !screened[i].located && screened[i].error.empty() &&
+           screened[i].screen_score >= screened[0].screen_score;
+  t.check(rest, "shortlist 1: the others screened out, with a screen score no better than the first's");
+  t.check(std::isnan(ranked[0].screen_score), "an unscreened search has no screen score");
+  expect([&] { dualspectra::search(partial, library, 10, {}, 0); }, dualspectra::Status::InvalidArgument,
+         "shortlist is 0", "shortlist = 0: InvalidArgument");
 
   const std::vector<const dualspectra::Localizer*> with_null{&library[0], nullptr};
   expect([&] { dualspectra::search(partial, with_null); }, dualspectra::Status::InvalidArgument,

@@ -570,6 +570,17 @@ const char *ds_result_warning(const struct ds_result *result, size_t index);
 // `progress` as for `ds_localizer_create`. No localizer may be destroyed during the call.
 ds_status ds_search(const struct ds_localizer *const *localizers, size_t n_localizers, const struct ds_mesh *partial, size_t top, ds_progress_fn progress, void *user, struct ds_search_result **out);
 
+// `ds_search` after a screen: with `shortlist` below `n_localizers`, every shape is ranked
+// by a screen of its SHOT descriptors (with the first localizer's `scale` option) and the
+// partial is located on the `shortlist` best only; the others follow in screen order, not
+// located and without an error (`ds_search_result_result` NULL, `ds_search_result_error`
+// NULL), each with its `ds_search_result_screen_score`. `shortlist >= n_localizers` is
+// `ds_search`. Errors as `ds_search`, and `DS_INVALID_ARGUMENT` for `shortlist == 0`.
+//
+// # Safety
+// As `ds_search`.
+ds_status ds_search_screened(const struct ds_localizer *const *localizers, size_t n_localizers, const struct ds_mesh *partial, size_t shortlist, size_t top, ds_progress_fn progress, void *user, struct ds_search_result **out);
+
 // Release a ranking and the results it owns (their pointers are then no longer live). NULL
 // is ignored; a pointer that is not a live `ds_search_result` is left alone and named in
 // `ds_last_error_message` (a second destroy does nothing).
@@ -598,6 +609,13 @@ ds_status ds_search_result_index(const struct ds_search_result *search, size_t r
 // # Safety
 // `search` any pointer (a handle argument, checked); `out` valid for one write.
 ds_status ds_search_result_score(const struct ds_search_result *search, size_t rank, double *out);
+
+// The screen's score of the shape at `rank` (lower is more similar; `ds_search_screened`
+// with a shortlist below the number of shapes); NaN when the search was not screened.
+//
+// # Safety
+// `search` any pointer (a handle argument, checked); `out` valid for one write.
+ds_status ds_search_result_screen_score(const struct ds_search_result *search, size_t rank, double *out);
 
 // The localization on the shape at `rank`, *borrowed* from the ranking: read it with every
 // `ds_result_*` getter (its per-vertex arrays are in the numbering of that shape's full

@@ -250,6 +250,9 @@ struct Match {
   bool located = false;           // false: the partial cannot be on this shape (see error)
   Localization localization;      // in the numbering of this shape's full mesh; empty if not located
   std::string error;              // why it was not located ("" if it was)
+  // The screen's score (lower is more similar) when search() screened the shapes (a shortlist
+  // below their number); NaN otherwise. A shape screened out is not located, with no error.
+  double screen_score = std::numeric_limits<double>::quiet_NaN();
 };
 
 // Which of the prepared full shapes is `partial` a part of, and where: the partial is located
@@ -257,13 +260,18 @@ struct Match {
 // first). A shape the partial cannot be on (e.g. smaller than it) ranks last, not located;
 // when no shape can take it, the first shape's error is thrown. top == 0 throws
 // Error(Status::InvalidArgument); a null pointer among the localizers too. Progress runs over
-// the shapes.
+// the shapes. With `shortlist` below the number of shapes, a screen (a few SHOT descriptors
+// per shape, with the first localizer's scale option) ranks them first and the partial is
+// located on the `shortlist` best only; the others follow in screen order, not located
+// (Match::screen_score). shortlist == 0 throws Error(Status::InvalidArgument).
 std::vector<Match> search(const Mesh& partial, const std::vector<const Localizer*>& localizers,
                           std::size_t top = std::numeric_limits<std::size_t>::max(),
-                          const ProgressCallback& progress = {});
+                          const ProgressCallback& progress = {},
+                          std::size_t shortlist = std::numeric_limits<std::size_t>::max());
 std::vector<Match> search(const Mesh& partial, const std::vector<Localizer>& localizers,
                           std::size_t top = std::numeric_limits<std::size_t>::max(),
-                          const ProgressCallback& progress = {});
+                          const ProgressCallback& progress = {},
+                          std::size_t shortlist = std::numeric_limits<std::size_t>::max());
 
 // Find the region of `full` that `partial` corresponds to, in one call (a Localizer used once).
 Localization localize(const Mesh& full, const Mesh& partial, const Options& options = Options(),

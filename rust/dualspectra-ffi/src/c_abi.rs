@@ -159,6 +159,8 @@ pub(crate) struct SearchMatch {
     result: Option<Box<ds_result>>,
     /// Why the partial could not be located on the shape.
     error: Option<CString>,
+    /// The screen's score (NaN when the search was not screened).
+    screen_score: f64,
 }
 
 /// Wall-clock seconds per stage.
@@ -1524,6 +1526,30 @@ pub unsafe extern "C" fn ds_search(
     user: *mut c_void,
     out: *mut *mut ds_search_result,
 ) -> ds_status {
+    unsafe { ds_search_screened(localizers, n_localizers, partial, usize::MAX, top, progress, user, out) }
+}
+
+/// `ds_search` after a screen: with `shortlist` below `n_localizers`, every shape is ranked
+/// by a screen of its SHOT descriptors (with the first localizer's `scale` option) and the
+/// partial is located on the `shortlist` best only; the others follow in screen order, not
+/// located and without an error (`ds_search_result_result` NULL, `ds_search_result_error`
+/// NULL), each with its `ds_search_result_screen_score`. `shortlist >= n_localizers` is
+/// `ds_search`. Errors as `ds_search`, and `DS_INVALID_ARGUMENT` for `shortlist == 0`.
+///
+/// # Safety
+/// As `ds_search`.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn ds_search_screened(
+    localizers: *const *const ds_localizer,
+    n_localizers: usize,
+    partial: *const ds_mesh,
+    shortlist: usize,
+    top: usize,
+    progress: ds_progress_fn,
+    user: *mut c_void,
+    out: *mut *mut ds_search_result,
+) -> ds_status {
     unsafe {
         make(out, || {
             let pointers = slice_in(localizers, n_localizers, "localizers")?;
@@ -1536,7 +1562,7 @@ pub unsafe extern "C" fn ds_search(
             for full in &fulls {
                 reserve_locate(full, partial)?;
             }
-            let found = crate::search(&partial.mesh, &fulls, top, &progress_of(progress, user))?;
+            let found = crate::search(&partial.mesh, &fulls, top, shortlist, &progress_of(progress, user))?;
             let matches = found
                 .into_iter()
                 .map(|m| SearchMatch {
@@ -1544,6 +1570,7 @@ pub unsafe extern "C" fn ds_search(
                     score: m.score,
                     result: m.localization.map(|loc| Box::new(result_handle(loc))),
                     error: m.error.as_deref().map(c_string),
+                    screen_score: m.screen_score.unwrap_or(f64::NAN),
                 })
                 .collect();
             Ok(ds_search_result { matches })
@@ -1598,6 +1625,16 @@ pub unsafe extern "C" fn ds_search_result_index(search: *const ds_search_result,
 #[no_mangle]
 pub unsafe extern "C" fn ds_search_result_score(search: *const ds_search_result, rank: usize, out: *mut f64) -> ds_status {
     guard(|| unsafe { write_out(out, ranked(handle(search, "search")?, rank)?.score, "out") })
+}
+
+/// The screen's score of the shape at `rank` (lower is more similar; `ds_search_screened`
+/// with a shortlist below the number of shapes); NaN when the search was not screened.
+///
+/// # Safety
+/// `search` any pointer (a handle argument, checked); `out` valid for one write.
+#[no_mangle]
+pub unsafe extern "C" fn ds_search_result_screen_score(search: *const ds_search_result, rank: usize, out: *mut f64) -> ds_status {
+    guard(|| unsafe { write_out(out, ranked(handle(search, "search")?, rank)?.screen_score, "out") })
 }
 
 /// The localization on the shape at `rank`, *borrowed* from the ranking: read it with every

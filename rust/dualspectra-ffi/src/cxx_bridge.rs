@@ -91,6 +91,7 @@ pub mod ffi {
         located: bool,
         localization: LocalizationData,
         error: String,
+        screen_score: f64,
     }
 
     /// A sparse `n x n` matrix as coordinate triplets (`rows[i], cols[i], values[i]`).
@@ -159,7 +160,7 @@ pub mod ffi {
 
         fn localizer_list_new() -> Box<LocalizerList>;
         fn push(self: &mut LocalizerList, localizer: &LocalizerData);
-        fn search(partial: &MeshData, localizers: &LocalizerList, top: usize, progress: &ProgressSink) -> Result<Vec<MatchData>>;
+        fn search(partial: &MeshData, localizers: &LocalizerList, top: usize, shortlist: usize, progress: &ProgressSink) -> Result<Vec<MatchData>>;
 
         fn gaussian_curvature(mesh: &MeshData, smoothed: bool) -> Result<Vec<f64>>;
         fn cotangent_stiffness(mesh: &MeshData) -> Result<TripletData>;
@@ -378,11 +379,12 @@ fn search(
     partial: &MeshData,
     localizers: &LocalizerList,
     top: usize,
+    shortlist: usize,
     progress: &ffi::ProgressSink,
 ) -> Result<Vec<ffi::MatchData>, BridgeError> {
     guarded(|| {
         let fulls: Vec<&HostLocalizer> = localizers.0.iter().map(|l| l.as_ref()).collect();
-        let found = crate::search(&partial.0, &fulls, top, &progress_of(progress))?;
+        let found = crate::search(&partial.0, &fulls, top, shortlist, &progress_of(progress))?;
         Ok(found
             .into_iter()
             .map(|m| ffi::MatchData {
@@ -391,6 +393,7 @@ fn search(
                 located: m.localization.is_some(),
                 localization: m.localization.map(localization_data).unwrap_or_default(),
                 error: m.error.unwrap_or_default(),
+                screen_score: m.screen_score.unwrap_or(f64::NAN),
             })
             .collect())
     })

@@ -202,13 +202,25 @@ impl HostLocalizer {
 
 /// Rank the prepared full shapes for `partial` ([`dualspectra::search()`]): the `top` best
 /// matches, best first, each localization in the host's numbering of its full mesh; `top`
-/// 0 is refused (it would compute everything to keep nothing).
-pub(crate) fn search(partial: &HostMesh, fulls: &[&HostLocalizer], top: usize, progress: &Progress) -> Result<Vec<Match>, Error> {
+/// 0 is refused (it would compute everything to keep nothing). With `shortlist` below the
+/// number of shapes, they are screened first ([`dualspectra::search_screened`], with the
+/// first shape's `scale` option) and only the `shortlist` best are localized.
+pub(crate) fn search(partial: &HostMesh, fulls: &[&HostLocalizer], top: usize, shortlist: usize, progress: &Progress) -> Result<Vec<Match>, Error> {
     if top == 0 {
         return Err(Error::InvalidArgument("top is 0: keep at least one match (the number of shapes or more keeps all)".into()));
     }
+    if shortlist == 0 {
+        return Err(Error::InvalidArgument("shortlist is 0: localize at least one shape (the number of shapes or more localizes all)".into()));
+    }
     let cores: Vec<&Localizer> = fulls.iter().map(|f| &f.localizer).collect();
-    let mut found = dualspectra::search(partial.mesh(), &cores, top, progress)?;
+    let mut found = if shortlist < cores.len() {
+        let entries = cores.iter().map(|c| dualspectra::ScreenEntry::new(&c.full_mesh())).collect::<Result<Vec<_>, Error>>()?;
+        let screen = dualspectra::Screen::new(&entries)?;
+        let scale = cores[0].options().scale;
+        dualspectra::search_screened(partial.mesh(), &screen, scale, shortlist, |i, _| Ok::<_, Error>(cores[i]), top, progress)?
+    } else {
+        dualspectra::search(partial.mesh(), &cores, top, progress)?
+    };
     let partial_map = partial.host_map();
     for m in &mut found {
         m.localization = m.localization.take().map(|loc| to_host(loc, &fulls[m.index].full, &partial_map));

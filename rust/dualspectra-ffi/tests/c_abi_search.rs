@@ -353,3 +353,48 @@ fn foreign_stale_and_missing_files_are_clear_errors() {
     }
     assert!(l.is_null());
 }
+
+/// `ds_search_screened` with a shortlist of 1 locates the partial on the shape the screen
+/// ranks best (the one it was cut from, with the same region as a direct localization); the
+/// others follow not located, without an error, with a screen score no better than the first;
+/// `ds_search` reports NaN screen scores; a shortlist of 0 is refused.
+#[test]
+fn a_screened_search_locates_the_shortlist_only() {
+    let lib = library();
+    let shapes = &lib.localizers[..3];
+    let pointers: Vec<*const ds_localizer> = shapes.iter().map(|&l| l as *const _).collect();
+    let mut out = ptr::null_mut();
+    let s = unsafe { ds_search_screened(pointers.as_ptr(), pointers.len(), lib.partial, 1, usize::MAX, None, ptr::null_mut(), &mut out) };
+    assert_eq!(s, DS_OK, "{}", last_error());
+    let ranked = ranking(out);
+    assert_eq!(ranked.len(), 3);
+    assert_eq!(ranked[0].0, RIGHT);
+    let screen = |rank: usize| {
+        let mut x = f64::NAN;
+        assert_eq!(unsafe { ds_search_result_screen_score(out, rank, &mut x) }, DS_OK, "{}", last_error());
+        x
+    };
+    assert!(screen(0).is_finite());
+    for rank in 1..3 {
+        assert!(ranked[rank].1.is_infinite());
+        assert!(unsafe { ds_search_result_result(out, rank) }.is_null());
+        assert!(unsafe { ds_search_result_error(out, rank) }.is_null());
+        assert!(screen(rank) >= screen(0));
+    }
+    let direct = locate(lib.localizers[RIGHT], lib.partial);
+    assert_eq!(region(unsafe { ds_search_result_result(out, 0) }), region(direct));
+    unsafe {
+        ds_result_destroy(direct);
+        ds_search_result_destroy(out);
+    }
+    let (s, plain) = search(shapes, usize::MAX, None);
+    assert_eq!(s, DS_OK, "{}", last_error());
+    let mut x = 0.0;
+    assert_eq!(unsafe { ds_search_result_screen_score(plain, 0, &mut x) }, DS_OK);
+    assert!(x.is_nan());
+    unsafe { ds_search_result_destroy(plain) };
+    let mut none = ptr::null_mut();
+    let s = unsafe { ds_search_screened(pointers.as_ptr(), pointers.len(), lib.partial, 0, usize::MAX, None, ptr::null_mut(), &mut none) };
+    assert_eq!(s, DS_INVALID_ARGUMENT);
+    assert!(last_error().contains("shortlist"), "{}", last_error());
+}
