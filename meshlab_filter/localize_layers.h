@@ -215,7 +215,6 @@ LayersRanked<Model> rank_layers(LocalizerCache& cache, const std::vector<Model*>
     best->cm.sfn = int(done.selected_faces);
     done.prepared = out.prepared;
     done.seconds = out.seconds;
-    done.scale = out.scale;
     const char* json = ds_options_json(options);
     log(false, "Ranked " + QString::number(fulls.size()) + " layer(s) for '" + partial->label() + "': best '" +
                    best->label() + "' (score " + QString::number(done.ranking.front().score, 'g', 4) +
