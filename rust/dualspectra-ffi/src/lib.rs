@@ -213,14 +213,7 @@ pub(crate) fn search(partial: &HostMesh, fulls: &[&HostLocalizer], top: usize, s
         return Err(Error::InvalidArgument("shortlist is 0: localize at least one shape (the number of shapes or more localizes all)".into()));
     }
     let cores: Vec<&Localizer> = fulls.iter().map(|f| &f.localizer).collect();
-    let mut found = if shortlist < cores.len() {
-        let entries = cores.iter().map(|c| dualspectra::ScreenEntry::new(&c.full_mesh())).collect::<Result<Vec<_>, Error>>()?;
-        let screen = dualspectra::Screen::new(&entries)?;
-        let scale = cores[0].options().scale;
-        dualspectra::search_screened(partial.mesh(), &screen, scale, shortlist, |i, _| Ok::<_, Error>(cores[i]), top, progress)?
-    } else {
-        dualspectra::search(partial.mesh(), &cores, top, progress)?
-    };
+    let mut found = dualspectra::search_shortlisted(partial.mesh(), &cores, top, shortlist, progress)?;
     let partial_map = partial.host_map();
     for m in &mut found {
         m.localization = m.localization.take().map(|loc| to_host(loc, &fulls[m.index].full, &partial_map));

@@ -56,15 +56,8 @@ pub fn search(
     let partial = intake("partial mesh", &vertices, &faces)?;
     let shapes: Vec<&dualspectra::Localizer> = fulls.iter().map(|f| &f.get().inner).collect();
     let top = top.unwrap_or(usize::MAX);
-    let found = with_progress(py, progress, |p| match shortlist {
-        Some(n) if n < shapes.len() => {
-            let entries = shapes.iter().map(|s| dualspectra::ScreenEntry::new(&s.full_mesh())).collect::<dualspectra::Result<Vec<_>>>()?;
-            let screen = dualspectra::Screen::new(&entries)?;
-            let scale = shapes[0].options().scale;
-            dualspectra::search_screened(&partial.mesh, &screen, scale, n, |i, _| Ok::<_, dualspectra::Error>(shapes[i]), top, p)
-        }
-        _ => dualspectra::search(&partial.mesh, &shapes, top, p),
-    })?;
+    let shortlist = shortlist.unwrap_or(usize::MAX);
+    let found = with_progress(py, progress, |p| dualspectra::search_shortlisted(&partial.mesh, &shapes, top, shortlist, p))?;
     found
         .into_iter()
         .map(|m| {

@@ -41,7 +41,7 @@ pub use error::{Error, MeshError, Result};
 pub use localizer::{localize, Candidate, Localization, Localizer, Mode, Options, Scale, Timings};
 pub use mesh::TriMesh;
 pub use progress::Progress;
-pub use search::{search, search_screened, search_with, Match, Screen, ScreenEntry};
+pub use search::{search, search_screened, search_shortlisted, search_with, Match, Screen, ScreenEntry};
 
 /// The README's Rust example, compiled and run as a doc test.
 #[cfg(doctest)]

@@ -266,11 +266,11 @@ pub fn run(args: Args) -> Result<(), CliError> {
     let top = args.top.unwrap_or(usize::MAX);
     let screened = args.shortlist < shapes.len();
     let found = if screened {
-        let screen = match given_screen {
-            Some(screen) => screen,
-            None => describe_for_screen(&paths, args.drop_isolated, &progress.sub(0.0, 0.2))?,
+        // Describing the shapes here takes the first 20 % of the progress.
+        let (screen, rest) = match given_screen {
+            Some(screen) => (screen, progress.clone()),
+            None => (describe_for_screen(&paths, args.drop_isolated, &progress.sub(0.0, 0.2))?, progress.sub(0.2, 1.0)),
         };
-        let rest = if args.fulls.iter().any(|p| has_extension(p, SCREEN_EXTENSION)) { progress.clone() } else { progress.sub(0.2, 1.0) };
         dualspectra::search_screened(&partial, &screen, options.scale, args.shortlist, open, top, &rest)
     } else {
         dualspectra::search_with(&partial, shapes.len(), open, top, &progress)

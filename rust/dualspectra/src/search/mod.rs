@@ -139,6 +139,18 @@ where
     Ok(found)
 }
 
+/// [`search`] with a shortlist: with `shortlist` below `fulls.len()`, a screen of the shapes'
+/// full meshes (with the first shape's `scale` option) ranks them and only the `shortlist`
+/// best are localized ([`search_screened`]); otherwise every shape is, as by [`search`].
+pub fn search_shortlisted(partial: &TriMesh, fulls: &[&Localizer], top: usize, shortlist: usize, progress: &Progress) -> Result<Vec<Match>> {
+    if shortlist >= fulls.len() {
+        return search(partial, fulls, top, progress);
+    }
+    let entries = fulls.iter().map(|f| ScreenEntry::new(&f.full_mesh())).collect::<Result<Vec<_>>>()?;
+    let screen = Screen::new(&entries)?;
+    search_screened(partial, &screen, fulls[0].options().scale, shortlist, |i, _| Ok::<_, Error>(fulls[i]), top, progress)
+}
+
 /// The order of a ranking of `(similarity score, full shape index)`: lowest score (most
 /// similar) first, ties by index; `+inf` (a shape not located) last ([`f64::total_cmp`]).
 fn ranking_order(a: (f64, usize), b: (f64, usize)) -> std::cmp::Ordering {
