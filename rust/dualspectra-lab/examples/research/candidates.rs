@@ -5,7 +5,9 @@
 //! `cargo run -p dualspectra-lab --release --example research_candidates -- DATASET [STRIDE] [OFFSET] [OPTIONS_JSON] [--gt-start]`
 //!
 //! One line per candidate: pair, label, final cost, the five selection scores, its
-//! symmetry-aware IoU, `*` on the chosen one. One [`Localizer`] per full shape.
+//! symmetry-aware IoU, `*` on the chosen one, the candidate's seconds of optimisation share
+//! (its evaluations), and its cost after each trust-region iteration (comma-separated: the
+//! early-pruning study of docs/benchmarks/options.md). One [`Localizer`] per full shape.
 //!
 //! `--gt-start` adds the ground-truth region as one more start (`given#0`): whether the
 //! optimiser keeps a right region and the choice recognises it (docs/benchmarks/options.md).
@@ -27,7 +29,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         None => Options::default(),
     };
     let show = |x: Option<f64>| x.map_or("-".to_string(), |v| format!("{v:.4}"));
-    println!("pair label cost descriptor_score region_cost boundary_misfit partial_fit vote_share iou_sym chosen");
+    println!("pair label cost descriptor_score region_cost boundary_misfit partial_fit vote_share iou_sym chosen evaluations history");
     let mut prepared: HashMap<std::path::PathBuf, Localizer> = HashMap::new();
     for pair in Dataset::open(root)?.pairs()?.iter().skip(offset).step_by(stride) {
         let data = pair.load()?;
@@ -43,7 +45,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             };
             let s = c.scores;
             println!(
-                "{} {} {:.4e} {} {} {} {} {} {iou:.3} {}",
+                "{} {} {:.4e} {} {} {} {} {} {iou:.3} {} {} {}",
                 pair.name,
                 c.label,
                 c.cost,
@@ -52,7 +54,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 show(s.boundary_misfit),
                 show(s.partial_fit),
                 show(s.vote_share),
-                if i == found.selected_start { "*" } else { "" }
+                if i == found.selected_start { "*" } else { "-" },
+                c.evaluations,
+                c.cost_history.iter().map(|h| format!("{h:.4e}")).collect::<Vec<_>>().join(",")
             );
         }
     }

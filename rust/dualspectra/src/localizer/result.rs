@@ -36,6 +36,9 @@ pub struct Candidate {
     pub scores: CandidateScore,
     pub iterations: usize,
     pub evaluations: usize,
+    /// The cost after each trust-region iteration (how early the start's outcome shows).
+    #[serde(default)]
+    pub cost_history: Vec<f64>,
     /// Region on the full mesh's vertices.
     pub region: Vec<bool>,
 }

@@ -216,6 +216,8 @@ struct Run {
     cost: f64,
     iterations: usize,
     evaluations: usize,
+    /// The cost after each iteration.
+    history: Vec<f64>,
     /// Eigenvalues per term at the optimum.
     eigenvalues: Vec<Vec<f64>>,
     /// Mean eigenvector energy per optimisation vertex at the optimum.
@@ -472,6 +474,7 @@ fn optimise_start(shape: &Shape, terms: &[SpectrumTerm], start: &Start, iteratio
         cost: at_optimum.cost,
         iterations: info.iterations,
         evaluations: cost.evaluations,
+        history: info.history,
         eigenvalues: at_optimum.spectra.iter().map(|s| s.values.clone()).collect(),
         energy,
     })
@@ -562,6 +565,7 @@ fn result(loc: &Localizer, level: &OptimisationMesh, target: &Target, scored: Ve
             scores: c.score,
             iterations: c.run.iterations,
             evaluations: c.run.evaluations,
+            cost_history: c.run.history,
             region: c.full.0,
         })
         .collect();
