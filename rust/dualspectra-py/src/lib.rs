@@ -13,6 +13,7 @@ mod localization;
 mod operators;
 mod options;
 mod progress;
+mod screen;
 mod search;
 
 use pyo3::prelude::*;
@@ -28,6 +29,7 @@ fn _dualspectra(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<localization::Candidate>()?;
     m.add_class::<localization::Localizer>()?;
     m.add_class::<search::Match>()?;
+    m.add_class::<screen::Screen>()?;
     m.add_function(wrap_pyfunction!(localization::localize, m)?)?;
     m.add_function(wrap_pyfunction!(search::search, m)?)?;
     m.add_function(wrap_pyfunction!(search::rank, m)?)?;

@@ -10,7 +10,9 @@ Partial shape similarity: :func:`search` ranks several full shapes for one parti
 of these models is this fragment part of, and where?") by the core's similarity score
 (:attr:`Localization.similarity_score`, lower is more similar), and
 :func:`dualspectra.batch.search_batch` (also here as :func:`search_batch`) does so for many
-partials, locally or on a Dask cluster. A prepared :class:`Localizer` is saved and loaded
+partials, locally or on a Dask cluster. A :class:`Screen` describes a library of full shapes
+once (a few descriptors per shape, saved as ``.dsscreen`` files) so that both locate a partial
+on the shapes it ranks best only (``shortlist=``). A prepared :class:`Localizer` is saved and loaded
 (:meth:`Localizer.save`, :meth:`Localizer.load`: the core's versioned ``.dsprep`` files) and
 pickled (as the same bytes), so a library of full shapes is prepared once.
 
@@ -58,6 +60,7 @@ from ._api import (
     localize,
     lumped_mass,
     options_schema,
+    Screen,
     read_mesh,
     search,
     spectrum,
@@ -87,6 +90,7 @@ __all__ = [
     "lumped_mass",
     "options_schema",
     "read_mesh",
+    "Screen",
     "search",
     "search_batch",
     "spectrum",

@@ -331,9 +331,12 @@ def _is_path(full: Any) -> bool:
     return isinstance(full, (str, os.PathLike))
 
 
-def _check_fulls(fulls: Sequence[FullShape], options: Dict[str, OptionValue]) -> List[FullShape]:
+def _check_fulls(
+    fulls: Sequence[FullShape], options: Dict[str, OptionValue], used: Tuple[str, ...] = ("threads",)
+) -> List[FullShape]:
     """The shapes as a list, each checked for its kind (arrays converted); a warning when
-    options other than ``threads`` are given for prepared shapes (which keep theirs)."""
+    options other than ``used`` (which apply to prepared shapes too) are given for prepared
+    shapes (which keep theirs)."""
     out: List[FullShape] = []
     for i, full in enumerate(fulls):
         if isinstance(full, Localizer) or _is_path(full):
@@ -345,7 +348,7 @@ def _check_fulls(fulls: Sequence[FullShape], options: Dict[str, OptionValue]) ->
                 f"full shape {i}: expected a Localizer, a (vertices, faces) pair or the path of a prepared shape, "
                 f"got {type(full).__name__}"
             )
-    if any(not isinstance(f, tuple) for f in out) and set(options) - {"threads"}:
+    if any(not isinstance(f, tuple) for f in out) and set(options) - set(used):
         _warn(["prepared shapes keep the options they were prepared with; the options given apply to the meshes only"])
     return out
 
@@ -361,6 +364,16 @@ def _prepared(full: FullShape, options: Dict[str, OptionValue], progress: Option
     return Localizer(vertices, faces, progress=progress, **options)
 
 
+def _check_screen(screen: Any, n_fulls: int) -> None:
+    """``screen`` is a :class:`Screen` of ``n_fulls`` shapes."""
+    if not isinstance(screen, Screen):
+        raise TypeError(f"screen must be a dualspectra.Screen, got {type(screen).__name__}")
+    if len(screen) != n_fulls:
+        raise ValueError(
+            f"the screen holds {len(screen)} shapes, {n_fulls} full shapes were given (build it from the same shapes, in order)"
+        )
+
+
 def _span(progress: Optional[ProgressCallback], lo: float, hi: float) -> Optional[ProgressCallback]:
     """``progress`` for a part of the run: fractions of the part mapped into ``[lo, hi]``."""
     if progress is None:
@@ -369,12 +382,170 @@ def _span(progress: Optional[ProgressCallback], lo: float, hi: float) -> Optiona
     return lambda fraction, stage: report(lo + (hi - lo) * fraction, stage)
 
 
+@final
+class Screen:
+    """A library of full shapes described once for screening: a few SHOT descriptors per
+    shape (about 64 KB), so that :meth:`rank` orders the whole library for a partial in a
+    fraction of a second and only the most promising shapes need localizing
+    (``search(..., screen=)``, ``search_batch(..., shortlist=)``). The core's ``Screen``;
+    docs/algorithm.md, "Screening a library".
+
+    A screen is saved and loaded (:meth:`save`, :meth:`load`: the ``.dsscreen`` files that
+    ``dualspectra index FULL... -o LIB.dsscreen`` writes, labelled with the shapes' paths),
+    turned into bytes and back (:meth:`to_bytes`, :meth:`from_bytes`) and pickled (as those
+    bytes). Describing and ranking release the GIL.
+
+    Args:
+        fulls: the full shapes, as for :func:`search`: meshes ``(vertices, faces)``,
+            prepared :class:`Localizer` objects (their full mesh is described) or paths of
+            prepared shapes (``.dsprep``: loaded, described and dropped one at a time).
+            Shape ``i`` of the screen is ``fulls[i]``.
+        labels: one name per shape (e.g. its file), kept in the file; default: empty.
+        progress: optional ``callback(fraction, stage)``, called after each shape;
+            returning ``False`` cancels (:class:`Cancelled`), an exception it raises (or
+            Ctrl-C) is re-raised.
+
+    Raises:
+        ValueError: no shape, a shape with no area, or not one label per shape.
+        MeshError: a mesh cannot be used, or a prepared-shape file cannot be loaded.
+        Cancelled: the callback returned ``False``.
+    """
+
+    __slots__ = ("_native",)
+
+    def __init__(
+        self,
+        fulls: Sequence[FullShape],
+        *,
+        labels: Optional[Sequence[str]] = None,
+        progress: Optional[ProgressCallback] = None,
+    ) -> None:
+        shapes: List[Any] = []
+        for i, full in enumerate(fulls):
+            if isinstance(full, Localizer):
+                shapes.append(full._native)
+            elif isinstance(full, (str, os.PathLike)):
+                shapes.append(os.fspath(full))
+            elif isinstance(full, (tuple, list)):
+                shapes.append(_mesh_pair(full, f"full shape {i}"))
+            else:
+                raise TypeError(
+                    f"full shape {i}: expected a Localizer, a (vertices, faces) pair or the path of a prepared shape, "
+                    f"got {type(full).__name__}"
+                )
+        if labels is not None:
+            if isinstance(labels, str) or not all(isinstance(label, str) for label in labels):
+                raise TypeError("labels must be a sequence of str, one per full shape")
+            labels = list(labels)
+        _check_progress(progress)
+        self._native = _dualspectra.Screen(shapes, labels, progress)
+        _warn(self._native.warnings)
+
+    def rank(
+        self,
+        vertices: ArrayLike,
+        faces: ArrayLike,
+        scale: Union[str, float] = "same",
+        *,
+        progress: Optional[ProgressCallback] = None,
+    ) -> List[Tuple[int, float]]:
+        """Every shape's screen score for the partial ``(vertices, faces)``, best first.
+
+        The score of a shape is the mean distance from the partial's descriptors to the
+        nearest of the shape's (lower is more similar; dimensionless, comparable across the
+        library, not with :attr:`Localization.similarity_score`).
+
+        Args:
+            vertices, faces: the partial shape, ``(p, 3)`` and ``(q, 3)`` (repaired as for
+                :meth:`Localizer.locate`, with a warning).
+            scale: the partial's units, as the ``scale`` option: ``"same"`` (the shapes'
+                units: a shape smaller than the partial scores ``inf``), ``"auto"`` (unknown
+                units) or a positive factor the partial's coordinates are multiplied by.
+            progress: optional ``callback(fraction, stage)``; returning ``False`` cancels.
+
+        Returns:
+            ``[(index, score), ...]`` for every shape, lowest score first, ties by index,
+            ``inf`` (the partial cannot be part of that shape in these units) last.
+
+        Raises:
+            MeshError: the partial mesh cannot be used. ValueError: ``scale`` is not
+            ``"same"``, ``"auto"`` or a positive number. Cancelled: the callback returned
+            ``False``.
+        """
+        pv, pf = _mesh_arrays(vertices, faces, "partial mesh")
+        if isinstance(scale, bool) or not isinstance(scale, (str, int, float, np.integer, np.floating)):
+            raise TypeError(f'scale must be "same", "auto" or a positive number, got {type(scale).__name__}')
+        _check_progress(progress)
+        ranked, notes = self._native.rank(pv, pf, scale if isinstance(scale, str) else float(scale), progress)
+        _warn(notes)
+        return ranked
+
+    @property
+    def labels(self) -> Tuple[str, ...]:
+        """Each shape's label (empty strings unless given; a file of ``dualspectra index``:
+        the shapes' paths relative to the file's folder)."""
+        return self._native.labels
+
+    @property
+    def nbytes(self) -> Tuple[int, int]:
+        """Bytes held per shape and for the basis all shapes share (the memory a library
+        takes is about ``len(screen) * per_shape + basis``)."""
+        return self._native.nbytes
+
+    def save(self, path: PathLike) -> None:
+        """Write the screen to ``path`` (by convention ``*.dsscreen``; the core's versioned
+        format, as ``dualspectra index`` writes). Raises ``OSError`` if it cannot be written."""
+        self._native.save(os.fspath(path))
+
+    @classmethod
+    def load(cls, path: PathLike) -> "Screen":
+        """A screen written by :meth:`save` or ``dualspectra index``: it ranks as the saved
+        one did.
+
+        Raises:
+            MeshError: the file is not a screen (foreign), was written by another format
+            version (stale: make the screen again), or is truncated or corrupted; the message
+            names the file and the problem. OSError: it cannot be read.
+        """
+        return cls._wrap(_dualspectra.Screen.load(os.fspath(path)))
+
+    def to_bytes(self) -> bytes:
+        """The screen as bytes: what :meth:`save` writes."""
+        return self._native.to_bytes()
+
+    @classmethod
+    def from_bytes(cls, data: Union[bytes, bytearray, memoryview]) -> "Screen":
+        """A screen from :meth:`to_bytes`' bytes (errors as :meth:`load`)."""
+        return cls._wrap(_dualspectra.Screen.from_bytes(data if isinstance(data, bytes) else bytes(data)))
+
+    @classmethod
+    def _wrap(cls, native: _dualspectra.Screen) -> "Screen":
+        screen = cls.__new__(cls)
+        screen._native = native
+        return screen
+
+    def __reduce__(self) -> Tuple[Callable[[bytes], "Screen"], Tuple[bytes]]:
+        # Pickled as its bytes (the intake's notes were given when it was made).
+        return (_unpickle_screen, (self._native.to_bytes(),))
+
+    def __len__(self) -> int:
+        return len(self._native)
+
+    def __repr__(self) -> str:
+        return repr(self._native)
+
+
+def _unpickle_screen(data: bytes) -> Screen:
+    return Screen._wrap(_dualspectra.Screen.from_bytes(data))
+
+
 def search(
     partial: Tuple[ArrayLike, ArrayLike],
     fulls: Sequence[FullShape],
     *,
     top: Optional[int] = None,
     shortlist: Optional[int] = None,
+    screen: Optional[Screen] = None,
     progress: Optional[ProgressCallback] = None,
     **options: OptionValue,
 ) -> List[Match]:
@@ -394,6 +565,9 @@ def search(
             (default: every shape, no screen); the others follow in screen order with
             ``localization = None``, ``error = None`` and their ``screen_score``. The screen
             uses the first shape's ``scale`` option.
+        screen: a :class:`Screen` of these shapes (``Screen(fulls)``, or loaded; shape
+            ``i`` is ``fulls[i]``), so that repeated searches do not describe the library
+            again; every match then has its ``screen_score``.
         progress: optional ``callback(fraction, stage)`` over the whole search (preparing
             the meshes, then locating on each shape); returning ``False`` cancels.
         **options: the core's options by name, for the meshes of ``fulls`` (as for
@@ -410,7 +584,8 @@ def search(
     Raises:
         MeshError: a mesh cannot be used, or a prepared-shape file cannot be loaded.
         ValueError: the partial cannot be located on any of the shapes (the first shape's
-        reason). Cancelled: the callback returned ``False``.
+        reason), or ``screen`` does not hold one shape per full shape. Cancelled: the
+        callback returned ``False``.
     """
     pv, pf = _mesh_pair(partial, "partial mesh")
     _check_progress(progress)
@@ -419,6 +594,8 @@ def search(
         top = _count(top, "top")
     if shortlist is not None:
         shortlist = _count(shortlist, "shortlist")
+    if screen is not None:
+        _check_screen(screen, len(checked))
     # Progress: one unit per mesh to prepare, one per shape to locate on.
     meshes = sum(isinstance(f, tuple) for f in checked)
     units = max(1, meshes + len(checked))
@@ -430,7 +607,9 @@ def search(
             part = _span(progress, done / units, (done + 1) / units)
             done += 1
         localizers.append(_prepared(full, options, part))
-    found = _dualspectra.search(pv, pf, [loc._native for loc in localizers], top, _span(progress, done / units, 1.0), shortlist)
+    natives = [loc._native for loc in localizers]
+    screened = None if screen is None else screen._native
+    found = _dualspectra.search(pv, pf, natives, top, _span(progress, done / units, 1.0), shortlist, screened)
     # The partial's notes once, not once per shape; each shape's own notes were given when it
     # was prepared or loaded.
     seen: Set[str] = set()
@@ -568,6 +747,7 @@ for _public in (
     lumped_mass,
     options_schema,
     read_mesh,
+    Screen,
     search,
     spectrum,
 ):

@@ -18,6 +18,7 @@ __all__ = [
     "Localization",
     "Localizer",
     "Match",
+    "Screen",
     "localize",
     "search",
     "rank",
@@ -203,7 +204,42 @@ class Match:
     @property
     def screen_score(self) -> Optional[float]:
         """The screen's score of this shape (lower is more similar) when the search was
-        screened (``shortlist``); a shape screened out has no localization and no error."""
+        screened (``shortlist`` or ``screen``); a shape screened out has no localization and
+        no error."""
+
+@final
+class Screen:
+    """A library of full shapes described for screening (the core's ``Screen``)."""
+
+    def __new__(
+        cls,
+        fulls: Sequence[Union[Localizer, Tuple[NDArray[np.float64], NDArray[np.int64]], str]],
+        labels: Optional[List[str]] = None,
+        progress: _Progress = None,
+    ) -> Screen: ...
+    def rank(
+        self,
+        vertices: NDArray[np.float64],
+        faces: NDArray[np.int64],
+        scale: Union[str, float, None] = None,
+        progress: _Progress = None,
+    ) -> Tuple[List[Tuple[int, float]], List[str]]: ...
+    def save(self, path: str) -> None: ...
+    @staticmethod
+    def load(path: str) -> Screen: ...
+    def to_bytes(self) -> bytes: ...
+    @staticmethod
+    def from_bytes(data: bytes) -> Screen: ...
+    @property
+    def labels(self) -> Tuple[str, ...]:
+        """Each shape's label (empty strings unless given)."""
+    @property
+    def warnings(self) -> Tuple[str, ...]:
+        """What the intake of the meshes changed (empty for a loaded screen)."""
+    @property
+    def nbytes(self) -> Tuple[int, int]:
+        """Bytes held per shape and for the shared basis."""
+    def __len__(self) -> int: ...
 
 def localize(
     full_vertices: NDArray[np.float64],
@@ -220,6 +256,7 @@ def search(
     top: Optional[int] = None,
     progress: _Progress = None,
     shortlist: Optional[int] = None,
+    screen: Optional[Screen] = None,
 ) -> List[Match]: ...
 def rank(scored: Sequence[Tuple[float, int]], top: Optional[int] = None) -> List[int]: ...
 def options_schema() -> List[Dict[str, Any]]: ...

@@ -8,6 +8,11 @@ merged into one ranking per partial by the core's ranking rule (the one
 more similar, ties by the full shape's index).
 Every number comes from the core; this module only distributes the calls and sorts.
 
+With a ``shortlist`` (or a prebuilt :class:`~dualspectra.Screen`), each partial is first
+ranked here by the library's screen and only its ``shortlist`` best (partial, full shape)
+pairs become work for the tasks; the others are listed after the localized shapes, screened
+out (as :func:`dualspectra.search` lists them).
+
 ``client=None`` runs the tasks one after the other here, without importing Dask; a
 ``dask.distributed.Client`` runs them on its workers (each needs the ``dualspectra`` wheel
 installed; full shapes given as paths must be readable there). Both give the same results:
@@ -32,8 +37,8 @@ import ctypes.util
 import math
 import os
 import warnings
-from dataclasses import dataclass
-from typing import TYPE_CHECKING, Dict, Iterable, Iterator, List, Optional, Sequence, Set, Tuple
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Dict, Iterable, Iterator, List, Optional, Sequence, Set, Tuple, Union
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -42,10 +47,13 @@ from . import _dualspectra
 from ._api import (
     DualspectraWarning,
     FullShape,
+    Localizer,
     OptionValue,
     ProgressCallback,
+    Screen,
     _check_fulls,
     _check_progress,
+    _check_screen,
     _count,
     _mesh_pair,
     _prepared,
@@ -69,7 +77,9 @@ class BatchMatch:
     ``region`` is indexed by the full shape's vertices as given (as
     :attr:`~dualspectra.Localization.region`); ``score`` is the similarity score, lower is
     more similar. When the partial could not be located on the shape, ``score`` is ``inf``,
-    ``region``, ``confidence`` and ``cost`` are ``None`` and ``error`` says why.
+    ``region``, ``confidence`` and ``cost`` are ``None`` and ``error`` says why. A shape the
+    screen left out of the partial's shortlist has ``score = inf``, ``region``,
+    ``confidence``, ``cost`` and ``error`` ``None``, and its ``screen_score``.
     """
 
     #: Index of the partial in ``partials``.
@@ -88,6 +98,9 @@ class BatchMatch:
     warnings: Tuple[str, ...]
     #: Why the partial could not be located on the shape (``None`` when it was).
     error: Optional[str]
+    #: The screen's score of the shape for the partial (:meth:`~dualspectra.Screen.rank`,
+    #: lower is more similar; ``None`` when no screen was used).
+    screen_score: Optional[float] = None
 
 
 # glibc's mallopt parameters (malloc.h).
@@ -181,6 +194,8 @@ def search_batch(
     *,
     top: Optional[int] = None,
     pairs: Optional[Iterable[Tuple[int, int]]] = None,
+    shortlist: Optional[int] = None,
+    screen: Optional[Screen] = None,
     client: Optional[Client] = None,
     progress: Optional[ProgressCallback] = None,
     **options: OptionValue,
@@ -197,13 +212,26 @@ def search_batch(
         top: keep the ``top`` best matches per partial (default: all).
         pairs: compute only these ``(partial index, full index)`` pairs (default: every
             partial against every full shape); a partial is then ranked among its pairs.
+        shortlist: locate each partial on the ``shortlist`` full shapes (among its pairs)
+            that the library's screen ranks best only (default: on every one, no screen).
+            The screen ranks the partials here, before the tasks start; the shapes it leaves
+            out follow the localized ones in the partial's ranking, in screen order, with
+            ``score = inf`` and their ``screen_score``. It uses the ``scale`` option given,
+            else the first full shape's when that is a :class:`~dualspectra.Localizer`,
+            else ``"same"``.
+        screen: the library's :class:`~dualspectra.Screen` (shape ``i`` is ``fulls[i]``;
+            e.g. :meth:`~dualspectra.Screen.load` of a ``dualspectra index`` file). Default
+            with a ``shortlist``: ``Screen(fulls)``, built here once, which loads paths of
+            prepared shapes (give ``screen`` when they are only readable on the workers).
+            With a screen and no ``shortlist``, every pair is localized and every match has
+            its ``screen_score``.
         client: a ``dask.distributed.Client`` to run the tasks on (one per full shape);
             ``None``: run them here, one after the other (Dask is not imported).
         progress: optional ``callback(fraction, stage)``, called here; returning ``False``
             cancels (on a cluster: the tasks not yet finished are cancelled). With a client
-            it is called as tasks finish.
+            it is called as tasks finish. The screen, if any, takes its first 10 %.
         **options: the core's options by name, for the meshes of ``fulls`` (``threads`` also
-            for the paths), as for :func:`dualspectra.search`.
+            for the paths, ``scale`` also for the screen), as for :func:`dualspectra.search`.
 
     Returns:
         ``rankings[i]``: partial ``i``'s :class:`BatchMatch` list, best first (ties by full
@@ -214,14 +242,39 @@ def search_batch(
     Raises:
         MeshError: a mesh cannot be used, or a prepared-shape file cannot be loaded.
         Cancelled: the callback returned ``False``. ValueError: an option or a pair is
-        invalid. With a client, an exception raised in a task is raised here.
+        invalid, ``shortlist`` is 0, or ``screen`` does not hold one shape per full shape.
+        With a client, an exception raised in a task is raised here.
     """
     _check_progress(progress)
     meshes: List[_Mesh] = [_mesh_pair(p, f"partial {i}") for i, p in enumerate(partials)]
-    checked = _check_fulls(fulls, options)
+    if shortlist is not None:
+        shortlist = _count(shortlist, "shortlist")
+        if shortlist == 0:
+            raise ValueError("search_batch: the shortlist must hold at least one shape")
+    screening = screen is not None or (shortlist is not None and shortlist < len(fulls))
+    checked = _check_fulls(fulls, options, ("threads", "scale") if screening else ("threads",))
+    if screen is not None:
+        _check_screen(screen, len(checked))
     if top is not None:
         top = _count(top, "top")
     tasks = _tasks(len(meshes), len(checked), pairs)
+    screened_out: List[List[BatchMatch]] = [[] for _ in meshes]
+    scores: Dict[Tuple[int, int], float] = {}
+    if screening:
+        if screen is None:
+            screen = _library_screen(checked, _span(progress, 0.0, 0.05))
+        scale = options.get("scale", checked[0].options["scale"] if isinstance(checked[0], Localizer) else "same")
+        ranked = _rank_by_screen(screen, meshes, tasks, scale, _span(progress, 0.05, 0.1))
+        kept: List[Tuple[int, int]] = []
+        for i, order in enumerate(ranked):
+            for place, (j, score) in enumerate(order):
+                if shortlist is None or place < shortlist:
+                    kept.append((i, j))
+                    scores[(i, j)] = score
+                else:
+                    screened_out[i].append(BatchMatch(i, j, math.inf, None, None, None, (), None, score))
+        tasks = _tasks(len(meshes), len(checked), kept)
+        progress = _span(progress, 0.1, 1.0)
     if client is None:
         results = _run_here(tasks, checked, meshes, options, progress)
     else:
@@ -229,8 +282,41 @@ def search_batch(
     rankings: List[List[BatchMatch]] = [[] for _ in meshes]
     for matches in results:
         for m in matches:
-            rankings[m.partial].append(m)
-    return [[r[i] for i in _dualspectra.rank([(m.score, m.index) for m in r], top)] for r in rankings]
+            screen_score = scores.get((m.partial, m.index))
+            rankings[m.partial].append(m if screen_score is None else replace(m, screen_score=screen_score))
+    ordered = [[r[i] for i in _dualspectra.rank([(m.score, m.index) for m in r])] for r in rankings]
+    return [(r + out)[:top] for r, out in zip(ordered, screened_out)]
+
+
+def _library_screen(fulls: List[FullShape], progress: Optional[ProgressCallback]) -> Screen:
+    """The screen of the checked full shapes, built here (the intake's notes are left to the
+    tasks' matches, as without a screen)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DualspectraWarning)
+        return Screen(fulls, progress=progress)
+
+
+def _rank_by_screen(
+    screen: Screen,
+    meshes: List[_Mesh],
+    tasks: Dict[int, List[int]],
+    scale: Union[str, float],
+    progress: Optional[ProgressCallback],
+) -> List[List[Tuple[int, float]]]:
+    """Per partial, the full shapes it is paired with in ``tasks`` as ``(full index, screen
+    score)``, best first. A partial paired with no shape is not ranked."""
+    paired: List[Set[int]] = [set() for _ in meshes]
+    for j, wanted in tasks.items():
+        for i in wanted:
+            paired[i].add(j)
+    out: List[List[Tuple[int, float]]] = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DualspectraWarning)  # the tasks' matches keep them
+        for i, (vertices, faces) in enumerate(meshes):
+            part = _span(progress, i / len(meshes), (i + 1) / len(meshes))
+            ranked = screen.rank(vertices, faces, scale, progress=part) if paired[i] else []
+            out.append([(j, score) for j, score in ranked if j in paired[i]])
+    return out
 
 
 def _run_here(
