@@ -1,6 +1,7 @@
 """Issue 37: a library search that does not localize every model, from Python: ``Screen``
 built from meshes, prepared shapes and ``.dsprep`` paths, saved and loaded, passed to
-``search(..., screen=)``, and ``search_batch(..., shortlist=)``.
+``search(..., screen=)``, ``search(..., shortlist=)`` over meshes (only the shortlisted ones
+prepared), and ``search_batch(..., shortlist=)``.
 
 The library is test_search.py's: three figures of the Rust core's ``evaluation::synthetic``
 kind (a four-legged one, the default one, a horned one), with a torus beside them; the
@@ -271,3 +272,104 @@ def test_batch_shortlist_within_pairs_and_from_files(
     screened = ds.Screen(prepared).rank(*small, "auto")
     assert screened != ds.Screen(prepared).rank(*small, "same")
     assert [(m.index, m.screen_score) for m in auto[0]] == screened
+
+
+def match_key(m: ds.Match) -> Tuple[Any, ...]:
+    """Everything a match says, its localization's arrays as bytes."""
+    loc = m.localization
+    arrays = () if loc is None else (loc.region.tobytes(), loc.score.tobytes(), loc.confidence, loc.cost, loc.warnings)
+    return (m.index, m.score, m.error) + arrays
+
+
+def test_a_shortlist_over_meshes_equals_the_search_over_their_prepared_shapes(
+    tmp_path: Path, library: List[Mesh], partials: List[Mesh], prepared: List[ds.Localizer]
+) -> None:
+    """Meshes with a shortlist are screened from the meshes and only the shortlisted ones are
+    prepared: the ranking, scores and regions are those of the search over the same shapes
+    prepared first."""
+    for p in partials:
+        meshes_screen = ds.Screen(library).rank(*p)
+        for shortlist, top in ((1, None), (2, None), (3, 2)):
+            lazy = ds.search(p, library, shortlist=shortlist, top=top, **LIGHT)
+            ready = ds.search(p, prepared, shortlist=shortlist, top=top)
+            assert [match_key(m) for m in lazy] == [match_key(m) for m in ready]
+            assert len(lazy) == (top or len(library))
+            assert sum(m.localization is not None for m in lazy) == min(shortlist, len(lazy))
+            # The screen describes the meshes as given (the prepared shapes' meshes are those
+            # up to rounding): the scores of Screen(meshes), close to Screen(prepared)'s.
+            assert {m.index: m.screen_score for m in lazy}.items() <= dict(meshes_screen).items()
+            np.testing.assert_allclose([m.screen_score for m in lazy], [m.screen_score for m in ready], rtol=1e-2)
+        # With a screen given, every field is the same, screen scores too.
+        screen = ds.Screen(prepared)
+        lazy = ds.search(p, library, shortlist=2, screen=screen, **LIGHT)
+        ready = ds.search(p, prepared, shortlist=2, screen=screen)
+        assert [match_key(m) + (m.screen_score,) for m in lazy] == [match_key(m) + (m.screen_score,) for m in ready]
+    # The kinds mixed: a mesh, a prepared shape, a prepared shape's file, a mesh.
+    path = tmp_path / "horned.dsprep"
+    prepared[2].save(path)
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", "prepared shapes keep the options", ds.DualspectraWarning)
+        mixed = ds.search(partials[0], [library[0], prepared[1], path, library[3]], shortlist=2, **LIGHT)
+    ready = ds.search(partials[0], prepared, shortlist=2)
+    assert [match_key(m) for m in mixed] == [match_key(m) for m in ready]
+
+
+def test_a_shortlist_prepares_only_the_shortlisted_meshes(library: List[Mesh], partials: List[Mesh]) -> None:
+    """Counted by the core's progress stage "prepared" (one per preparation)."""
+    def preparations(stages: List[Tuple[float, str]]) -> int:
+        return sum(s == "prepared" for _, s in stages)
+
+    everything: List[Tuple[float, str]] = []
+    ds.search(partials[0], library, progress=lambda f, s: everything.append((f, s)), **LIGHT)
+    assert preparations(everything) == len(library)
+    for shortlist, screen in ((1, None), (2, None), (2, ds.Screen(library)), (len(library), ds.Screen(library))):
+        seen: List[Tuple[float, str]] = []
+        report = lambda f, s: seen.append((f, s))  # noqa: E731
+        found = ds.search(partials[0], library, shortlist=shortlist, screen=screen, progress=report, **LIGHT)
+        assert preparations(seen) == shortlist == sum(m.localization is not None for m in found), seen
+        # The screen first (describing the library unless it is given), then the preparations.
+        fractions = [f for f, _ in seen]
+        assert fractions == sorted(fractions) and fractions[-1] == 1.0, fractions
+        stages = [s for _, s in seen]
+        assert ("describing the library" in stages) == (screen is None)
+        assert stages.index("screened") < stages.index("preparing")
+    # A prepared shape shortlisted: no mesh is prepared.
+    shapes: List[Any] = list(library)
+    shapes[OWN] = ds.Localizer(*library[OWN], **LIGHT)
+    seen = []
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", "prepared shapes keep the options", ds.DualspectraWarning)
+        found = ds.search(partials[0], shapes, shortlist=1, progress=lambda f, s: seen.append((f, s)), **LIGHT)
+    assert found[0].index == OWN and preparations(seen) == 0
+    # Cancelling while a shortlisted mesh is prepared, or by raising there.
+    with pytest.raises(ds.Cancelled):
+        ds.search(partials[0], library, shortlist=2, progress=lambda f, s: s != "descriptors", **LIGHT)
+
+    def raising(fraction: float, stage: str) -> None:
+        if stage == "preparing":
+            raise KeyError("stop")
+
+    with pytest.raises(KeyError, match="stop"):
+        ds.search(partials[0], library, shortlist=1, progress=raising, **LIGHT)
+
+
+def test_a_shortlist_over_meshes_warns_as_preparing_them_does(library: List[Mesh], partials: List[Mesh]) -> None:
+    """A mesh's intake note is given whether it is shortlisted or not, once; the
+    localizations carry the notes the prepared shapes' do."""
+    v, f = library[OWN]
+    far = [[9.0, 9.0, 9.0]]
+    loose = [library[0], (np.r_[v, far], f), library[2], (np.r_[library[3][0], far], library[3][1])]
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        lazy = ds.search(partials[0], loose, shortlist=1, **LIGHT)
+    notes = [str(w.message) for w in caught if issubclass(w.category, ds.DualspectraWarning)]
+    assert len(notes) == 2 and all("1 vertex" in n for n in notes), notes
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ds.DualspectraWarning)
+        ready = ds.search(partials[0], [ds.Localizer(*full, **LIGHT) for full in loose], shortlist=1)
+    assert lazy[0].index == OWN and lazy[0].localization is not None
+    assert [match_key(m) for m in lazy] == [match_key(m) for m in ready]
+    assert lazy[0].localization.region.shape == (len(v) + 1,) and not lazy[0].localization.region[-1]
+    # A mesh's bad index is an error before anything is prepared, naming the shape.
+    with pytest.raises(ds.MeshError, match="full shape 1: face 0 refers to vertex"):
+        ds.search(partials[0], [library[0], (v, f + len(v))], shortlist=1, **LIGHT)

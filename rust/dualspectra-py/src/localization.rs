@@ -16,7 +16,7 @@ use crate::options;
 use crate::progress::python_progress;
 use dualspectra::localizer::HostNumbering;
 use dualspectra::mesh::intake::MeshIntake;
-use dualspectra::{Error, Progress};
+use dualspectra::{Error, Options, Progress};
 use numpy::{PyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyTuple};
@@ -262,6 +262,20 @@ impl Localizer {
         self.note.iter().cloned().chain(partial.warning("partial mesh")).collect()
     }
 
+    /// The core's preparation of the full mesh `full` (an intake of the caller's arrays), its
+    /// numbering stored with it (saved files name the caller's vertices) unless it is the
+    /// identity: `Localizer(vertices, faces)`'s, and `search`'s for the meshes it prepares.
+    pub(crate) fn prepare(
+        full: &MeshIntake,
+        options: &Options,
+        progress: &Progress,
+    ) -> dualspectra::Result<dualspectra::Localizer> {
+        let mut inner = dualspectra::Localizer::with_progress(&full.mesh, options, progress)?;
+        let host = full.host_numbering();
+        inner.set_host_numbering((!host.is_identity()).then_some(host))?;
+        Ok(inner)
+    }
+
     /// A loaded core localizer, run on `threads` threads if given, results in its stored
     /// numbering (the identity when none was stored).
     fn loaded(mut inner: dualspectra::Localizer, threads: Option<usize>, note: Option<String>) -> PyResult<Self> {
@@ -287,11 +301,8 @@ impl Localizer {
         check_callable(py, &progress)?;
         let options = options::from_kwargs(options)?;
         let full = intake("full mesh", &vertices, &faces)?;
-        let mut inner = with_progress(py, progress, |p| dualspectra::Localizer::with_progress(&full.mesh, &options, p))?;
-        let host = full.host_numbering();
-        // Stored with the shape (saved files name the caller's vertices) unless it is the identity.
-        inner.set_host_numbering((!host.is_identity()).then(|| host.clone())).map_err(to_py)?;
-        Ok(Localizer { inner, host, note: full.warning("full mesh") })
+        let inner = with_progress(py, progress, |p| Localizer::prepare(&full, &options, p))?;
+        Ok(Localizer { inner, host: full.host_numbering(), note: full.warning("full mesh") })
     }
 
     /// Write the prepared shape to `path` (the core's `.dsprep` format).

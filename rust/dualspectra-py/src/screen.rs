@@ -11,7 +11,7 @@
 use crate::convert::intake;
 use crate::errors::to_py;
 use crate::localization::{check_callable, with_progress, Localizer};
-use dualspectra::{Error, Scale, ScreenEntry, TriMesh};
+use dualspectra::{Error, Progress, Scale, ScreenEntry, TriMesh};
 use numpy::PyReadonlyArray2;
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -31,10 +31,7 @@ enum Shape {
 impl Shape {
     /// The shape's screen entry; errors name the shape (`index`, or the file).
     fn describe(&self, index: usize) -> dualspectra::Result<ScreenEntry> {
-        let named = |e: Error| match e {
-            Error::InvalidArgument(msg) => Error::InvalidArgument(format!("full shape {index}: {msg}")),
-            other => other,
-        };
+        let named = |e: Error| in_shape(index, e);
         match self {
             Shape::Mesh(mesh) => ScreenEntry::new(mesh).map_err(named),
             Shape::Prepared(localizer) => ScreenEntry::new(&localizer.get().inner.full_mesh()).map_err(named),
@@ -44,6 +41,31 @@ impl Shape {
             }
         }
     }
+}
+
+/// `e` naming full shape `index` when it is about the input (`InvalidArgument`).
+pub(crate) fn in_shape(index: usize, e: Error) -> Error {
+    match e {
+        Error::InvalidArgument(msg) => Error::InvalidArgument(format!("full shape {index}: {msg}")),
+        other => other,
+    }
+}
+
+/// The screen of `n` shapes, shape `i`'s entry `entry(i)`, reporting per shape (`Screen(fulls)`,
+/// and `search` with a shortlist and no screen).
+pub(crate) fn describe_library(
+    n: usize,
+    mut entry: impl FnMut(usize) -> dualspectra::Result<ScreenEntry>,
+    progress: &Progress,
+) -> dualspectra::Result<dualspectra::Screen> {
+    let mut entries = Vec::with_capacity(n);
+    for i in 0..n {
+        progress.report(i as f64 / n as f64, "describing the library")?;
+        entries.push(entry(i)?);
+    }
+    let screen = dualspectra::Screen::new(&entries)?;
+    progress.report(1.0, "described the library")?;
+    Ok(screen)
 }
 
 /// `scale` as the core takes it: `"same"`, `"auto"` (any case) or a positive number.
@@ -104,18 +126,11 @@ impl Screen {
                 )));
             }
         }
-        let n = shapes.len();
         let inner = with_progress(py, progress, |p| {
-            let mut entries = Vec::with_capacity(n);
-            for (i, shape) in shapes.iter().enumerate() {
-                p.report(i as f64 / n as f64, "describing the library")?;
-                entries.push(shape.describe(i)?);
-            }
-            let mut screen = dualspectra::Screen::new(&entries)?;
+            let mut screen = describe_library(shapes.len(), |i| shapes[i].describe(i), p)?;
             if let Some(labels) = labels {
                 screen.set_labels(labels)?;
             }
-            p.report(1.0, "described the library")?;
             Ok(screen)
         })?;
         Ok(Screen { inner, notes })

@@ -1,16 +1,22 @@
-//! Partial shape similarity: `search` ranks prepared full shapes for one partial
-//! (`dualspectra::search`, screened by `dualspectra::search_screened` with a shortlist or a
-//! `Screen`), each answer a `Match`.
+//! Partial shape similarity: `search` ranks full shapes for one partial
+//! (`dualspectra::search_with`, screened by `dualspectra::search_screened` with a shortlist
+//! or a `Screen`), each answer a `Match`. Full shapes given as meshes are prepared one at a
+//! time as the search reaches them, so after a screen only the shortlisted ones are.
 //!
-//! The partial enters through the core's `MeshIntake`; every match's localization leaves
+//! The meshes enter through the core's `MeshIntake`; every match's localization leaves
 //! through its full shape's numbering, as `Localizer.locate`'s does.
 
 use crate::convert::intake;
 use crate::localization::{check_callable, with_progress, Localization, Localizer};
-use crate::screen::Screen;
+use crate::options;
+use crate::screen::{describe_library, in_shape, Screen};
+use dualspectra::mesh::intake::MeshIntake;
+use dualspectra::{Options, Progress, Scale, ScreenEntry};
 use numpy::PyReadonlyArray2;
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::borrow::Borrow;
 
 /// One full shape's answer for a partial: its index in the shapes searched, the similarity
 /// score (lower is more similar; `inf` when the partial could not be located on it), the
@@ -39,26 +45,109 @@ impl Match {
     }
 }
 
-/// Native `search`: locate the partial `(vertices, faces)` on every prepared shape of `fulls`
-/// and return the `top` best matches (all when `None`), best first (`dualspectra::search`).
-/// With `shortlist` below the number of shapes, the shapes are screened first
-/// (`dualspectra::search_screened`, with the first shape's `scale` option) and only the
-/// `shortlist` best are localized. A given `screen` (one model per shape of `fulls`, in
-/// order) is used instead of describing the shapes again, and every match then carries its
-/// screen score.
+/// One full shape to search, as the caller gave it.
+enum Full {
+    /// Prepared already (used with its own options).
+    Prepared(Py<Localizer>),
+    /// A mesh, prepared with the options given just before the partial is located on it
+    /// (so a mesh the screen leaves out is never prepared).
+    Mesh(MeshIntake),
+}
+
+/// A shape opened for one localization: borrowed when it was given prepared.
+enum Opened<'a> {
+    Given(&'a dualspectra::Localizer),
+    Prepared(Box<dualspectra::Localizer>),
+}
+
+impl Borrow<dualspectra::Localizer> for Opened<'_> {
+    fn borrow(&self) -> &dualspectra::Localizer {
+        match self {
+            Opened::Given(l) => l,
+            Opened::Prepared(l) => l,
+        }
+    }
+}
+
+impl Full {
+    /// A native `Localizer` or a `(vertices, faces)` pair of float64 / int64 arrays.
+    fn from_arg(index: usize, full: &Bound<'_, PyAny>) -> PyResult<Self> {
+        if let Ok(localizer) = full.cast::<Localizer>() {
+            return Ok(Full::Prepared(localizer.clone().unbind()));
+        }
+        let what = format!("full shape {index}");
+        match full.extract::<(PyReadonlyArray2<'_, f64>, PyReadonlyArray2<'_, i64>)>() {
+            Ok((vertices, faces)) => Ok(Full::Mesh(intake(&what, &vertices, &faces)?)),
+            Err(_) => Err(PyTypeError::new_err(format!(
+                "{what}: expected a Localizer or a (float64 (n, 3), int64 (m, 3)) array pair, got {}",
+                full.get_type().name()?
+            ))),
+        }
+    }
+
+    /// The shape's screen entry, from the mesh as given (for a prepared shape: its full mesh).
+    fn describe(&self, index: usize) -> dualspectra::Result<ScreenEntry> {
+        match self {
+            Full::Prepared(l) => ScreenEntry::new(&l.get().inner.full_mesh()),
+            Full::Mesh(m) => ScreenEntry::new(&m.mesh),
+        }
+        .map_err(|e| in_shape(index, e))
+    }
+
+    /// The `scale` option it is (or will be) prepared with.
+    fn scale(&self, options: &Options) -> Scale {
+        match self {
+            Full::Prepared(l) => l.get().inner.options().scale,
+            Full::Mesh(_) => options.scale,
+        }
+    }
+
+    /// Ready to locate on: prepared now for a mesh.
+    fn open(&self, options: &Options, progress: &Progress) -> dualspectra::Result<Opened<'_>> {
+        match self {
+            Full::Prepared(l) => Ok(Opened::Given(&l.get().inner)),
+            Full::Mesh(m) => Localizer::prepare(m, options, progress).map(|l| Opened::Prepared(Box::new(l))),
+        }
+    }
+
+    /// A localization on it in the caller's numbering, after the notes its intake and the
+    /// partial's gave (as `Localizer.locate`'s).
+    fn localization(&self, py: Python<'_>, l: dualspectra::Localization, partial: &MeshIntake) -> PyResult<Localization> {
+        match self {
+            Full::Prepared(full) => Localization::new(py, l, &full.get().host, full.get().notes_for(partial)),
+            Full::Mesh(m) => {
+                let notes = m.warning("full mesh").into_iter().chain(partial.warning("partial mesh")).collect();
+                Localization::new(py, l, &m.host_numbering(), notes)
+            }
+        }
+    }
+}
+
+/// Native `search`: locate the partial `(vertices, faces)` on the shapes of `fulls` (native
+/// `Localizer`s, or meshes as `(vertices, faces)` pairs prepared with `options`) and return
+/// the `top` best matches (all when `None`), best first (`dualspectra::search_with`). With
+/// `shortlist` below the number of shapes, or a `screen` (one model per shape of `fulls`, in
+/// order), the shapes are screened first (`dualspectra::search_screened`, with the first
+/// shape's `scale` option) and only the `shortlist` best are prepared and localized; every
+/// match then carries its screen score. Without `screen`, the screen is described here (the
+/// meshes as given, a `Localizer`'s full mesh) in the first 20 % of `progress`. A mesh is
+/// prepared just before the partial is located on it and dropped after. Also returns, per
+/// shape, the notes of a mesh's intake and, if it was prepared, its preparation (what a
+/// `Localizer`'s `warnings` would be; empty for a given `Localizer`).
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, fulls, top=None, progress=None, shortlist=None, screen=None))]
+#[pyo3(signature = (vertices, faces, fulls, top=None, progress=None, shortlist=None, screen=None, options=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn search(
     py: Python<'_>,
     vertices: PyReadonlyArray2<'_, f64>,
     faces: PyReadonlyArray2<'_, i64>,
-    fulls: Vec<Py<Localizer>>,
+    fulls: Vec<Bound<'_, PyAny>>,
     top: Option<usize>,
     progress: Option<Py<PyAny>>,
     shortlist: Option<usize>,
     screen: Option<Py<Screen>>,
-) -> PyResult<Vec<Match>> {
+    options: Option<&Bound<'_, PyDict>>,
+) -> PyResult<(Vec<Match>, Vec<Vec<String>>)> {
     check_callable(py, &progress)?;
     if let Some(s) = &screen {
         let models = s.get().inner.len();
@@ -69,29 +158,53 @@ pub fn search(
             )));
         }
     }
+    let shapes = fulls.iter().enumerate().map(|(i, f)| Full::from_arg(i, f)).collect::<PyResult<Vec<_>>>()?;
+    // The options are for the meshes: unread (as the Python layer's warning says) without one.
+    let options =
+        if shapes.iter().any(|s| matches!(s, Full::Mesh(_))) { options::from_kwargs(options)? } else { Options::default() };
     let partial = intake("partial mesh", &vertices, &faces)?;
-    let shapes: Vec<&dualspectra::Localizer> = fulls.iter().map(|f| &f.get().inner).collect();
+    let n = shapes.len();
     let top = top.unwrap_or(usize::MAX);
     let shortlist = shortlist.unwrap_or(usize::MAX);
-    let found = with_progress(py, progress, |p| match &screen {
-        Some(s) => {
-            let scale = shapes.first().map_or(dualspectra::Scale::default(), |f| f.options().scale);
-            let open = |i: usize, _: &dualspectra::Progress| Ok::<_, dualspectra::Error>(shapes[i]);
-            dualspectra::search_screened(&partial.mesh, &s.get().inner, scale, shortlist, open, top, p)
+    let mut prepared: Vec<Option<Vec<String>>> = (0..n).map(|_| None).collect();
+    let found = with_progress(py, progress, |p| {
+        let open = |i: usize, part: &Progress| {
+            let opened = shapes[i].open(&options, part)?;
+            if let Opened::Prepared(l) = &opened {
+                prepared[i] = Some(l.warnings().to_vec());
+            }
+            Ok::<_, dualspectra::Error>(opened)
+        };
+        if screen.is_none() && shortlist >= n {
+            return dualspectra::search_with(&partial.mesh, n, open, top, p);
         }
-        None => dualspectra::search_shortlisted(&partial.mesh, &shapes, top, shortlist, p),
+        let scale = shapes.first().map_or(Scale::default(), |f| f.scale(&options));
+        match &screen {
+            Some(s) => dualspectra::search_screened(&partial.mesh, &s.get().inner, scale, shortlist, open, top, p),
+            None => {
+                let described = describe_library(n, |i| shapes[i].describe(i), &p.sub(0.0, 0.2))?;
+                dualspectra::search_screened(&partial.mesh, &described, scale, shortlist, open, top, &p.sub(0.2, 1.0))
+            }
+        }
     })?;
-    found
+    let matches = found
         .into_iter()
         .map(|m| {
-            let full = fulls[m.index].get();
-            let localization = m
-                .localization
-                .map(|l| Localization::new(py, l, &full.host, full.notes_for(&partial)).and_then(|l| Py::new(py, l)))
-                .transpose()?;
+            let full = &shapes[m.index];
+            let localization =
+                m.localization.map(|l| full.localization(py, l, &partial).and_then(|l| Py::new(py, l))).transpose()?;
             Ok(Match { index: m.index, score: m.score, localization, error: m.error, screen_score: m.screen_score })
         })
-        .collect()
+        .collect::<PyResult<Vec<_>>>()?;
+    let notes = shapes
+        .iter()
+        .zip(prepared)
+        .map(|(shape, prepared)| match shape {
+            Full::Prepared(_) => Vec::new(),
+            Full::Mesh(m) => m.warning("full mesh").into_iter().chain(prepared.into_iter().flatten()).collect(),
+        })
+        .collect();
+    Ok((matches, notes))
 }
 
 /// Native `rank`: positions of `(score, index)` pairs in the core's ranking order (lowest

@@ -553,7 +553,8 @@ def search(
     located on each and the shapes are ranked by :attr:`Localization.similarity_score`
     (lower is more similar; comparable across shapes of different size and meshing). With
     ``shortlist`` below the number of shapes, a screen (a few SHOT descriptors per shape)
-    ranks them first and the partial is located on the ``shortlist`` best only.
+    ranks them first and the partial is located on the ``shortlist`` best only (of the
+    meshes among ``fulls``, only those are prepared).
 
     Args:
         partial: the partial shape N, ``(vertices, faces)``.
@@ -564,12 +565,15 @@ def search(
         shortlist: locate the partial on the ``shortlist`` shapes the screen ranks best
             (default: every shape, no screen); the others follow in screen order with
             ``localization = None``, ``error = None`` and their ``screen_score``. The screen
-            uses the first shape's ``scale`` option.
+            uses the first shape's ``scale`` option and describes meshes as given; a mesh is
+            prepared only if it is shortlisted, just before the partial is located on it.
         screen: a :class:`Screen` of these shapes (``Screen(fulls)``, or loaded; shape
             ``i`` is ``fulls[i]``), so that repeated searches do not describe the library
             again; every match then has its ``screen_score``.
         progress: optional ``callback(fraction, stage)`` over the whole search (preparing
-            the meshes, then locating on each shape); returning ``False`` cancels.
+            the meshes, then locating on each shape; with a ``shortlist``: describing the
+            shapes unless ``screen`` is given, screening, then preparing each shortlisted
+            mesh and locating on each shortlisted shape); returning ``False`` cancels.
         **options: the core's options by name, for the meshes of ``fulls`` (as for
             :class:`Localizer`; a warning when they are given with prepared shapes, apart
             from ``threads``).
@@ -596,27 +600,37 @@ def search(
         shortlist = _count(shortlist, "shortlist")
     if screen is not None:
         _check_screen(screen, len(checked))
-    # Progress: one unit per mesh to prepare, one per shape to locate on.
-    meshes = sum(isinstance(f, tuple) for f in checked)
+    # With a shortlist the screen picks the shapes to localize first, and the native search
+    # prepares the meshes among them only (each just before locating on it). Otherwise every
+    # mesh is prepared here first: one progress unit per mesh, one per shape to locate on.
+    screened = shortlist is not None and (shortlist < len(checked) or screen is not None)
+    meshes = 0 if screened else sum(isinstance(f, tuple) for f in checked)
     units = max(1, meshes + len(checked))
-    localizers: List[Localizer] = []
+    shapes: List[Union[Localizer, Tuple[Any, Any]]] = []
     done = 0
     for full in checked:
+        if screened and isinstance(full, tuple):
+            shapes.append(full)
+            continue
         part = None
         if isinstance(full, tuple):
             part = _span(progress, done / units, (done + 1) / units)
             done += 1
-        localizers.append(_prepared(full, options, part))
-    natives = [loc._native for loc in localizers]
-    screened = None if screen is None else screen._native
-    found = _dualspectra.search(pv, pf, natives, top, _span(progress, done / units, 1.0), shortlist, screened)
-    # The partial's notes once, not once per shape; each shape's own notes were given when it
-    # was prepared or loaded.
+        shapes.append(_prepared(full, options, part))
+    natives = [s._native if isinstance(s, Localizer) else s for s in shapes]
+    found, notes = _dualspectra.search(
+        pv, pf, natives, top, _span(progress, done / units, 1.0), shortlist, None if screen is None else screen._native, options
+    )
+    # The notes of the meshes prepared (or only taken in) by the native search; then the
+    # partial's notes once, not once per shape (each shape's own notes were given when it was
+    # prepared or loaded).
+    for shape_notes in notes:
+        _warn(shape_notes)
+    own = [s.warnings if isinstance(s, Localizer) else tuple(n) for s, n in zip(shapes, notes)]
     seen: Set[str] = set()
     for m in found:
         if m.localization is not None:
-            own = set(localizers[m.index].warnings)
-            fresh = [w for w in m.localization.warnings if w not in own and w not in seen]
+            fresh = [w for w in m.localization.warnings if w not in own[m.index] and w not in seen]
             seen.update(fresh)
             _warn(fresh)
     return found

@@ -252,12 +252,13 @@ def localize(
 def search(
     vertices: NDArray[np.float64],
     faces: NDArray[np.int64],
-    fulls: List[Localizer],
+    fulls: Sequence[Union[Localizer, Tuple[NDArray[np.float64], NDArray[np.int64]]]],
     top: Optional[int] = None,
     progress: _Progress = None,
     shortlist: Optional[int] = None,
     screen: Optional[Screen] = None,
-) -> List[Match]: ...
+    options: _Options = None,
+) -> Tuple[List[Match], List[List[str]]]: ...
 def rank(scored: Sequence[Tuple[float, int]], top: Optional[int] = None) -> List[int]: ...
 def options_schema() -> List[Dict[str, Any]]: ...
 def spectrum(
