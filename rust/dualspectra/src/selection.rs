@@ -392,20 +392,30 @@ pub fn similarity_score(candidates: &[CandidateScore]) -> f64 {
         .max(0.0)
 }
 
-/// Weights of [`confidence`]: bias, partial fit (a logistic regression of "symmetry-aware
-/// IoU >= 0.5" over all 290 dev pairs: docs/benchmarks/confidence/fit_confidence.py; adding
-/// the margin to the best other answer, the region cost or the starts' consensus ranked worse,
-/// in sample and from one set to another: docs/benchmarks/options.md, "Confidence from the partial fit").
-const CONFIDENCE_WEIGHTS: [f64; 2] = [18.0881, -31.2701];
+/// Weights of [`confidence`]: bias, partial fit, $\log_{10}$ of the final alignment cost. A
+/// logistic regression of "the right full shape and symmetry-aware IoU >= 0.5" over the 290
+/// dev pairs (each on its own full shape) and 155 localizations of dev partials on the other
+/// full shapes of their set (docs/benchmarks/confidence/fit_confidence_models.py): the partial
+/// fit tells a good region from a bad one on the right shape, the cost tells the right shape
+/// from another person's body, whose spectra the potential cannot match as well
+/// (docs/benchmarks/options.md, "Confidence from the partial fit and the cost").
+const CONFIDENCE_WEIGHTS: [f64; 3] = [9.67, -18.1011, -0.902];
 
-/// How much to trust a chosen region, in [0, 1]: the estimated probability that its
-/// symmetry-aware IoU with the true region is at least 0.5, $\sigma(b + a f)$ from the chosen
-/// candidate's partial fit $f$ (how far the partial's descriptors are from the region's;
-/// 1 if unknown, clamped to [0, 10]).
-pub fn confidence(chosen: &CandidateScore) -> f64 {
-    let [b, a_fit] = CONFIDENCE_WEIGHTS;
+/// Costs below this count as this in [`confidence`] (an exact match is no better evidence
+/// than a near one).
+const CONFIDENCE_COST_FLOOR: f64 = 1e-6;
+
+/// How much to trust a chosen region, in [0, 1]: the estimated probability that the partial
+/// is part of this full shape and the region overlaps the true one with IoU >= 0.5,
+/// $\sigma(b + a f + c \log_{10} \max(C, 10^{-6}))$ from the chosen candidate's partial fit
+/// $f$ (how far the partial's descriptors are from the region's; 1 if unknown, clamped to
+/// [0, 10]) and its final alignment cost $C$ (how far the spectra stayed from the partial's;
+/// `+inf` or NaN count as $10^6$).
+pub fn confidence(chosen: &CandidateScore, cost: f64) -> f64 {
+    let [b, a_fit, a_cost] = CONFIDENCE_WEIGHTS;
     let fit = chosen.partial_fit.filter(|v| v.is_finite()).unwrap_or(1.0).clamp(0.0, 10.0);
-    1.0 / (1.0 + (-(b + a_fit * fit)).exp())
+    let cost = if cost.is_nan() { 1e6 } else { cost.clamp(CONFIDENCE_COST_FLOOR, 1e6) };
+    1.0 / (1.0 + (-(b + a_fit * fit + a_cost * cost.log10())).exp())
 }
 
 fn restrict_rows(m: &Mat<f64>, rows: &[u32]) -> Mat<f64> {
@@ -438,18 +448,22 @@ mod tests {
     }
 
     #[test]
-    fn confidence_is_a_probability_falling_with_a_worse_fit() {
+    fn confidence_is_a_probability_falling_with_a_worse_fit_or_cost() {
         let s = |fit: f64| CandidateScore { descriptor_score: Some(1.0), region_cost: Some(1.0), boundary_misfit: Some(0.0), partial_fit: Some(fit), vote_share: None };
-        let c = confidence(&s(0.55));
+        let c = confidence(&s(0.45), 0.1);
         assert!(c > 0.0 && c < 1.0, "{c}");
-        assert!(confidence(&s(0.45)) > c && confidence(&s(0.65)) < c);
+        assert!(confidence(&s(0.40), 0.1) > c && confidence(&s(0.50), 0.1) < c);
+        assert!(confidence(&s(0.45), 0.01) > c && confidence(&s(0.45), 10.0) < c);
+        // Below the floor the cost no longer counts.
+        assert_eq!(confidence(&s(0.45), 1e-9), confidence(&s(0.45), 0.0));
         for x in [f64::NAN, f64::INFINITY, -1e300, 0.0] {
-            let v = confidence(&s(x));
-            assert!((0.0..=1.0).contains(&v), "{x}: {v}");
+            for cost in [f64::NAN, f64::INFINITY, -1.0, 0.0, 1e300] {
+                let v = confidence(&s(x), cost);
+                assert!((0.0..=1.0).contains(&v), "{x} {cost}: {v}");
+            }
         }
-        assert!((0.0..=1.0).contains(&confidence(&CandidateScore::default())));
+        assert!((0.0..=1.0).contains(&confidence(&CandidateScore::default(), 1.0)));
     }
-
 
     /// A score with every entry known (NaN entries become `None`).
     fn score(desc: f64, region: f64, misfit: f64, fit: f64) -> CandidateScore {

@@ -62,8 +62,9 @@ pub struct Localization {
     pub target_si: Vec<f64>,
     /// Final alignment cost of the selected start.
     pub cost: f64,
-    /// How much to trust the region, in [0, 1]: the estimated probability that it overlaps
-    /// the true region with IoU >= 0.5 ([`crate::selection::confidence`]; calibration in
+    /// How much to trust the region, in [0, 1]: the estimated probability that the partial is
+    /// part of this full shape and the region overlaps the true one with IoU >= 0.5
+    /// ([`crate::selection::confidence`], from the partial fit and the cost; calibration in
     /// docs/benchmarks/confidence/). Reject matches below a threshold of your choice.
     pub confidence: f64,
     /// How similar the partial is to the full shape, lower is more similar
