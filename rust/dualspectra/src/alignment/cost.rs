@@ -26,6 +26,14 @@ use crate::operators::Dirichlet;
 use crate::shape::{Metric, Shape};
 use crate::spectra::{EigenParams, HamiltonianSolver, Spectrum};
 
+/// Tolerance of the eigensolves inside the optimisation ([`EigenParams::tol`]): warm solves
+/// stop at a relative residual of $10^{-3}$, which puts the eigenvalues within $\sim 10^{-6}$
+/// (the error of a Rayleigh quotient is of the order of the residual squared) and the
+/// gradient's $\phi^2$ within $\sim 10^{-3}$, more than the trust region needs: a quarter
+/// fewer block iterations than $10^{-8}$ at the same regions (docs/benchmarks/options.md,
+/// "Where the time goes").
+pub const EIGEN_TOLERANCE: f64 = 1e-7;
+
 /// The Gauss-Newton model Hessian (module doc) at one `w`, over all vertices of the shape
 /// (zero rows and columns at the shape's own boundary).
 #[derive(Debug, Clone)]
@@ -104,8 +112,7 @@ impl<'a> AlignmentCost<'a> {
                 return Err(Error::InvalidArgument("target eigenvalues must be positive and finite".into()));
             }
             let mass = dir.restrict(shape.metric_mass(t.metric));
-            // The optimiser needs eigenvalues to ~1e-8, not machine precision.
-            let params = EigenParams { k: t.target.len(), tol: 1e-8, ..EigenParams::default() };
+            let params = EigenParams { k: t.target.len(), tol: EIGEN_TOLERANCE, ..EigenParams::default() };
             solvers.push(HamiltonianSolver::with_symbolic(shape.dirichlet_symbolic()?, &mass, params)?);
             masses.push(mass);
         }

@@ -135,9 +135,21 @@ impl ShiftedPattern {
         }
         let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
         let symbolic =
-            factorize_symbolic_cholesky(pattern.as_ref(), Side::Lower, Default::default(), Default::default())
+            factorize_symbolic_cholesky(pattern.as_ref(), Side::Lower, Default::default(), supernodal_params())
                 .map_err(|e| Error::Numerical(format!("symbolic Cholesky analysis failed: {e:?}")))?;
         Ok(ShiftedPattern { n, pattern, w_values, diag_pos, symbolic })
+    }
+}
+
+/// The symbolic analysis asks for the supernodal factor on every mesh. faer's automatic
+/// choice (by the ratio of flops to nonzeros) takes the simplicial one on the 2,000-4,000-vertex
+/// optimisation meshes, whose triangular solves with a block of right-hand sides (the LOBPCG
+/// preconditioner, a fifth of a localization's time) then go entry by entry; the supernodal
+/// factor solves them with dense kernels (docs/benchmarks/options.md, "Where the time goes").
+fn supernodal_params() -> faer::sparse::linalg::cholesky::CholeskySymbolicParams<'static> {
+    faer::sparse::linalg::cholesky::CholeskySymbolicParams {
+        supernodal_flop_ratio_threshold: faer::sparse::linalg::SupernodalThreshold::FORCE_SUPERNODAL,
+        ..Default::default()
     }
 }
 
