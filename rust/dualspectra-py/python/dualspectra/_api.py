@@ -420,19 +420,10 @@ class Screen:
         labels: Optional[Sequence[str]] = None,
         progress: Optional[ProgressCallback] = None,
     ) -> None:
-        shapes: List[Any] = []
-        for i, full in enumerate(fulls):
-            if isinstance(full, Localizer):
-                shapes.append(full._native)
-            elif isinstance(full, (str, os.PathLike)):
-                shapes.append(os.fspath(full))
-            elif isinstance(full, (tuple, list)):
-                shapes.append(_mesh_pair(full, f"full shape {i}"))
-            else:
-                raise TypeError(
-                    f"full shape {i}: expected a Localizer, a (vertices, faces) pair or the path of a prepared shape, "
-                    f"got {type(full).__name__}"
-                )
+        shapes: List[Any] = [
+            full._native if isinstance(full, Localizer) else os.fspath(full) if isinstance(full, (str, os.PathLike)) else full
+            for full in _check_fulls(fulls, {})
+        ]
         if labels is not None:
             if isinstance(labels, str) or not all(isinstance(label, str) for label in labels):
                 raise TypeError("labels must be a sequence of str, one per full shape")
