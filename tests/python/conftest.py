@@ -126,6 +126,30 @@ def cut(v: np.ndarray, f: np.ndarray, keep: np.ndarray) -> Tuple[np.ndarray, np.
     return v[used], new[fk], used
 
 
+def assert_damaged_files_refused(
+    load: Callable[[Path], object],
+    from_bytes: Callable[[bytes], object],
+    cases: Dict[str, Tuple[bytes, str]],
+    folder: Path,
+    extension: str,
+) -> None:
+    """Every ``name: (bytes, message)`` of ``cases``, written to ``folder/name.extension``, is
+    refused by ``load`` with a :class:`dualspectra.MeshError` matching ``message`` and naming the
+    file, and by ``from_bytes`` with the same message; a missing file is a FileNotFoundError."""
+    import dualspectra as ds
+
+    for name, (data, message) in cases.items():
+        path = folder / f"{name}.{extension}"
+        path.write_bytes(data)
+        with pytest.raises(ds.MeshError, match=message) as err:
+            load(path)
+        assert str(path) in str(err.value), err.value
+        with pytest.raises(ds.MeshError, match=message):
+            from_bytes(data)
+    with pytest.raises(FileNotFoundError):
+        load(folder / f"missing.{extension}")
+
+
 #: Limbs ``(direction, height, width)`` of :func:`figure`'s shapes: the default figure (head,
 #: long arm +x, short arm -x, two legs), a four-legged one with a tail, one with a long horn
 #: (the Rust core's ``evaluation::synthetic`` figures).

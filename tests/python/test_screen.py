@@ -18,7 +18,7 @@ from typing import Any, Dict, List, Tuple
 
 import numpy as np
 import pytest
-from conftest import bend, cut, figure, torus
+from conftest import assert_damaged_files_refused, bend, cut, figure, torus
 
 import dualspectra as ds
 from dualspectra.batch import BatchMatch, search_batch
@@ -144,16 +144,7 @@ def test_bad_input_is_a_clear_error(tmp_path: Path, screen: ds.Screen, library: 
         "foreign": (b"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "not a dualspectra screen"),
         "empty": (b"", "not a dualspectra screen"),
     }
-    for name, (data, message) in cases.items():
-        path = tmp_path / f"{name}.dsscreen"
-        path.write_bytes(data)
-        with pytest.raises(ds.MeshError, match=message) as err:
-            ds.Screen.load(path)
-        assert str(path) in str(err.value), err.value
-        with pytest.raises(ds.MeshError, match=message):
-            ds.Screen.from_bytes(data)
-    with pytest.raises(FileNotFoundError):
-        ds.Screen.load(tmp_path / "missing.dsscreen")
+    assert_damaged_files_refused(ds.Screen.load, ds.Screen.from_bytes, cases, tmp_path, "dsscreen")
     # A screen of other shapes than those searched.
     with pytest.raises(ValueError, match="the screen holds 4 shapes, 2 full shapes were given"):
         ds.search(partials[0], library[:2], screen=screen, **LIGHT)

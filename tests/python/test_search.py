@@ -17,7 +17,7 @@ from typing import Any, Dict, List, Tuple
 
 import numpy as np
 import pytest
-from conftest import bend, cut, figure
+from conftest import assert_damaged_files_refused, bend, cut, figure
 
 import dualspectra as ds
 from dualspectra.batch import BatchMatch, search_batch
@@ -145,16 +145,7 @@ def test_stale_foreign_and_damaged_files_are_mesh_errors(tmp_path: Path, prepare
         "corrupted": (good[:-9] + bytes([good[-9] ^ 0xFF]) + good[-8:], "corrupted"),
         "empty": (b"", "empty file"),
     }
-    for name, (data, message) in cases.items():
-        path = tmp_path / f"{name}.dsprep"
-        path.write_bytes(data)
-        with pytest.raises(ds.MeshError, match=message) as err:
-            ds.Localizer.load(path)
-        assert str(path) in str(err.value), err.value
-        with pytest.raises(ds.MeshError, match=message):
-            ds.Localizer.from_bytes(data)
-    with pytest.raises(FileNotFoundError):
-        ds.Localizer.load(tmp_path / "missing.dsprep")
+    assert_damaged_files_refused(ds.Localizer.load, ds.Localizer.from_bytes, cases, tmp_path, "dsprep")
     with pytest.raises(ds.MeshError, match="stale"):
         ds.search(cases_partial(), [tmp_path / "stale.dsprep"])
 
