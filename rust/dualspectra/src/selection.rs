@@ -405,16 +405,19 @@ const CONFIDENCE_WEIGHTS: [f64; 3] = [9.67, -18.1011, -0.902];
 /// than a near one).
 const CONFIDENCE_COST_FLOOR: f64 = 1e-6;
 
+/// Costs above this (and `+inf` or NaN) count as this in [`confidence`].
+const CONFIDENCE_COST_CEILING: f64 = 1e6;
+
 /// How much to trust a chosen region, in [0, 1]: the estimated probability that the partial
 /// is part of this full shape and the region overlaps the true one with IoU >= 0.5,
 /// $\sigma(b + a f + c \log_{10} \max(C, 10^{-6}))$ from the chosen candidate's partial fit
 /// $f$ (how far the partial's descriptors are from the region's; 1 if unknown, clamped to
 /// [0, 10]) and its final alignment cost $C$ (how far the spectra stayed from the partial's;
-/// `+inf` or NaN count as $10^6$).
+/// clamped to $[10^{-6}, 10^6]$, NaN counts as $10^6$).
 pub fn confidence(chosen: &CandidateScore, cost: f64) -> f64 {
     let [b, a_fit, a_cost] = CONFIDENCE_WEIGHTS;
     let fit = chosen.partial_fit.filter(|v| v.is_finite()).unwrap_or(1.0).clamp(0.0, 10.0);
-    let cost = if cost.is_nan() { 1e6 } else { cost.clamp(CONFIDENCE_COST_FLOOR, 1e6) };
+    let cost = if cost.is_nan() { CONFIDENCE_COST_CEILING } else { cost.clamp(CONFIDENCE_COST_FLOOR, CONFIDENCE_COST_CEILING) };
     1.0 / (1.0 + (-(b + a_fit * fit + a_cost * cost.log10())).exp())
 }
 

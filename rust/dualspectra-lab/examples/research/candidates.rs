@@ -5,9 +5,9 @@
 //! `cargo run -p dualspectra-lab --release --example research_candidates -- DATASET [STRIDE] [OFFSET] [OPTIONS_JSON] [--gt-start]`
 //!
 //! One line per candidate: pair, label, final cost, the five selection scores, its
-//! symmetry-aware IoU, `*` on the chosen one, the candidate's seconds of optimisation share
-//! (its evaluations), and its cost after each trust-region iteration (comma-separated: the
-//! early-pruning study of docs/benchmarks/options.md). One [`Localizer`] per full shape.
+//! symmetry-aware IoU, `*` on the chosen one (`-` otherwise), its number of cost evaluations,
+//! and its cost after each trust-region iteration (comma-separated: the early-pruning study
+//! of docs/benchmarks/options.md, "Where the time goes"). One [`Localizer`] per full shape.
 //!
 //! `--gt-start` adds the ground-truth region as one more start (`given#0`): whether the
 //! optimiser keeps a right region and the choice recognises it (docs/benchmarks/options.md).
