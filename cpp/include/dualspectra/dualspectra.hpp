@@ -172,8 +172,9 @@ struct Localization {
   std::vector<double> target_regular;       // the partial shape's Dirichlet eigenvalues
   std::vector<double> target_si;
   double cost = 0.0;                   // final alignment cost of the selected start
-  // How much to trust the region, in [0, 1]: the estimated probability that it overlaps the
-  // true region with IoU >= 0.5. Reject matches below a threshold of your choice.
+  // How much to trust the region, in [0, 1]: the estimated probability that the partial is
+  // part of this full shape and the region overlaps the true one with IoU >= 0.5. Reject
+  // matches below a threshold of your choice.
   double confidence = 0.0;
   // How similar the partial is to the full shape (lower is more similar), comparable between
   // full shapes of different size and meshing: what search() ranks by. The core's

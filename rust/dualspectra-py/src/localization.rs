@@ -84,7 +84,8 @@ pub struct Localization {
     target_si: Py<PyArray1<f64>>,
     #[pyo3(get)]
     cost: f64,
-    /// Estimated probability, in [0, 1], that the region overlaps the true one with IoU >= 0.5.
+    /// Estimated probability, in [0, 1], that the partial is part of this full shape and the
+    /// region overlaps the true one with IoU >= 0.5.
     #[pyo3(get)]
     confidence: f64,
     /// The core's similarity score of the partial to the full shape (lower is more similar;

@@ -296,7 +296,8 @@ def localize(
     Returns:
         A :class:`Localization` (``region`` boolean mask over the ``n`` full-mesh vertices,
         soft ``score``, ``potential``, spectra, ``cost``, ``confidence`` (in [0, 1], the
-        estimated probability that ``region`` overlaps the true region with IoU >= 0.5),
+        estimated probability that the partial is part of ``full`` and ``region`` overlaps
+        the true region with IoU >= 0.5),
         ``candidates``, ``timings``, ``warnings``).
 
     Raises:

@@ -110,8 +110,9 @@ class Localization:
         """Final alignment cost of the selected start."""
     @property
     def confidence(self) -> float:
-        """How much to trust the region, in [0, 1]: the estimated probability that it overlaps
-        the true region with IoU >= 0.5. Reject matches below a threshold of your choice."""
+        """How much to trust the region, in [0, 1]: the estimated probability that the partial
+        is part of this full shape and the region overlaps the true one with IoU >= 0.5.
+        Reject matches below a threshold of your choice."""
     @property
     def scale(self) -> float:
         """The factor the partial's coordinates were multiplied by: 1 with ``scale="same"``,
