@@ -76,11 +76,13 @@ fn plane_cuts_find_an_oblique_half() {
     assert!(score > 0.8, "IoU {score} ({}), cost {}", labels[res.selected_start], res.cost);
     let planes = res.candidates.iter().filter(|c| c.label.starts_with("plane")).map(|c| iou(&c.region, &truth)).fold(0.0, f64::max);
     assert!(planes > 0.8, "best plane-cut start IoU {planes}");
-    // Each start's cost history: one entry per iteration, never rising (the trust region
-    // accepts only decreases), ending at its final cost (re-evaluated there).
+    // Each start's cost history: one entry per iteration, never rising on one mesh (the trust
+    // region accepts only decreases), ending at its final cost (re-evaluated there).
     for c in &res.candidates {
         assert_eq!(c.cost_history.len(), c.iterations, "{}", c.label);
-        assert!(c.cost_history.windows(2).all(|w| w[1] <= w[0]), "{}: {:?}", c.label, c.cost_history);
+        // At most one rise: where the warm-up mesh hands over to the optimisation mesh.
+        let rises = c.cost_history.windows(2).filter(|w| w[1] > w[0]).count();
+        assert!(rises <= 1, "{}: {:?}", c.label, c.cost_history);
         let last = *c.cost_history.last().unwrap();
         assert!((last - c.cost).abs() <= 1e-6 * c.cost.max(1e-12) + 1e-12, "{}: {last} vs {}", c.label, c.cost);
     }

@@ -131,6 +131,32 @@ impl<'a> AlignmentCost<'a> {
         self.shape.dirichlet()
     }
 
+    /// Each term's last eigensolver block over all vertices of the shape (zero at its own
+    /// boundary), carried by `carry` (a vertex function of this shape to one of another),
+    /// to seed the same terms on another shape ([`AlignmentCost::seed`]).
+    pub fn carried_blocks(&self, carry: impl Fn(&[f64]) -> Vec<f64>) -> Vec<Option<Vec<Vec<f64>>>> {
+        let dir = self.shape.dirichlet();
+        self.solvers
+            .iter()
+            .map(|solver| {
+                solver.block().map(|x| (0..x.ncols()).map(|j| carry(&dir.extend(&x.col(j).iter().copied().collect::<Vec<_>>(), 0.0))).collect())
+            })
+            .collect()
+    }
+
+    /// Start each term's next eigensolve from `blocks` (columns over all vertices of this
+    /// shape; [`AlignmentCost::carried_blocks`] of the same terms elsewhere).
+    pub fn seed(&mut self, blocks: Vec<Option<Vec<Vec<f64>>>>) -> Result<()> {
+        let dir = self.shape.dirichlet();
+        for (solver, block) in self.solvers.iter_mut().zip(blocks) {
+            let Some(columns) = block else { continue };
+            let restricted: Vec<Vec<f64>> = columns.iter().map(|c| dir.restrict(c)).collect();
+            let n = restricted.first().map_or(0, Vec::len);
+            solver.seed(faer::Mat::from_fn(n, restricted.len(), |i, j| restricted[j][i]))?;
+        }
+        Ok(())
+    }
+
     /// Cost and gradient at `w` (length = number of vertices of the shape).
     pub fn evaluate(&mut self, w: &[f64]) -> Result<Evaluation> {
         let n = self.n();

@@ -6,7 +6,8 @@
 //! scale-invariant factor, the SHOT descriptors, the plane-cut heights,
 //! and one symbolic Cholesky analysis shared by every eigensolver; a second, finer
 //! optimisation mesh for partials with holes is prepared the same way on the first such
-//! partial (`stages::FINE_RESOLUTION_FACTOR`). [`Localizer::locate`] then runs the stages for one
+//! partial (`stages::FINE_RESOLUTION_FACTOR`), and each optimisation mesh's coarser warm-up
+//! mesh on the first start (`stages::WARM_UP_FRACTION`). [`Localizer::locate`] then runs the stages for one
 //! partial (`stages.rs`); a `Localizer` is `Send + Sync`, so
 //! several partials may be located concurrently. [`localize`] is the one-call form
 //! (geometry-central's `HeatMethodDistanceSolver` beside `heatMethodDistance`). A prepared
@@ -75,6 +76,17 @@ pub(crate) struct OptimisationMesh {
     coarse_descriptors: Mat<f64>,
     /// Heights of the optimisation vertices along each plane-cut direction.
     plane_heights: Vec<Vec<f64>>,
+    /// A coarser mesh for the first iterations of every start, built on first use.
+    warmup: std::sync::OnceLock<Option<WarmUpMesh>>,
+}
+
+/// A decimation of an optimisation mesh on which starts take their first iterations.
+pub(crate) struct WarmUpMesh {
+    shape: Shape,
+    /// The optimisation-mesh vertex each warm-up vertex came from.
+    to_level: Vec<u32>,
+    /// The warm-up cell (nearest warm-up vertex) of each optimisation vertex.
+    cell_of_level: Vec<u32>,
 }
 
 impl std::fmt::Debug for Localizer {

@@ -285,6 +285,7 @@ fn read_payload(r: &mut Reader<'_>) -> std::result::Result<Localizer, String> {
             cell_of_full,
             coarse_descriptors,
             plane_heights,
+            warmup: Default::default(),
         }),
         fine_level: Default::default(),
         workers,

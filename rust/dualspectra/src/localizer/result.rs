@@ -36,7 +36,9 @@ pub struct Candidate {
     pub scores: CandidateScore,
     pub iterations: usize,
     pub evaluations: usize,
-    /// The cost after each trust-region iteration (how early the start's outcome shows).
+    /// The cost after each trust-region iteration (how early the start's outcome shows): on the
+    /// warm-up mesh for the first iterations, then on the optimisation mesh (where it may
+    /// start higher; never rising within either; docs/algorithm.md, "Optimisation").
     #[serde(default)]
     pub cost_history: Vec<f64>,
     /// Region on the full mesh's vertices.

@@ -5,7 +5,7 @@
 use super::{Candidate, Localization, Localizer, OptimisationMesh, Options, Scale, Timings};
 use crate::alignment::cost::{potential_from_w, AlignmentCost, SpectrumTerm};
 use crate::alignment::starts::{self, Start};
-use crate::alignment::trust_region::{minimize, HessianOperator, Point, TrustRegionParams};
+use crate::alignment::trust_region::{minimize, HessianOperator, Point, TrustRegionInfo, TrustRegionParams};
 use crate::error::{Error, MeshError, Result};
 use crate::geometry::shot;
 use crate::mesh::TriMesh;
@@ -37,6 +37,15 @@ pub const SMALLEST_AREA_FRACTION: f64 = 1e-3;
 /// Partials with holes are optimised on a mesh this many times finer than `resolution`
 /// (docs/benchmarks/options.md, "Finer mesh for partials with holes").
 pub const FINE_RESOLUTION_FACTOR: usize = 2;
+
+/// Every start takes its first iterations on a decimation of the optimisation mesh to this
+/// fraction of its vertices, and the rest on the optimisation mesh (docs/benchmarks/options.md,
+/// "Warm-up on a coarser mesh").
+pub const WARM_UP_FRACTION: f64 = 0.5;
+
+/// The share of `max_iterations` taken on the warm-up mesh (rounded down; at least one
+/// iteration is left for the optimisation mesh).
+pub const WARM_UP_SHARE: f64 = 0.8;
 
 /// A partial has holes when the rims of its boundary curves other than the longest add up
 /// to at least this fraction of $\sqrt{A_N}$ (docs/benchmarks/options.md, "Finer mesh for
@@ -168,7 +177,36 @@ fn prepare_level(
     progress.report(0.9, "starts")?;
     let points = coarse.mesh().vertices();
     let plane_heights = starts::plane_heights(points, coarse.mass(), options.plane_cuts);
-    Ok(OptimisationMesh { coarse, coarse_to_full, cell_of_full, coarse_descriptors, plane_heights })
+    Ok(OptimisationMesh { coarse, coarse_to_full, cell_of_full, coarse_descriptors, plane_heights, warmup: Default::default() })
+}
+
+/// The warm-up mesh of `level`: its optimisation mesh decimated to [`WARM_UP_FRACTION`] of its
+/// vertices, the scale-invariant factor integrated over the cells (as the optimisation mesh's
+/// is from the full shape). `None` (no warm-up) below `2 x MIN_RESOLUTION` vertices or where
+/// the decimation fails.
+fn warmup_mesh(level: &OptimisationMesh) -> Option<super::WarmUpMesh> {
+    let mesh = level.coarse.mesh();
+    let fraction = WARM_UP_FRACTION;
+    if (mesh.n_vertices() as f64 * fraction) < super::MIN_RESOLUTION as f64 {
+        return None;
+    }
+    let d = crate::mesh::decimate::decimate(mesh, fraction).ok()?;
+    let cell_of_level = crate::mesh::nearest::nearest_vertices(d.mesh.vertices(), mesh.vertices()).ok()?;
+    let fine = level.coarse.scale_invariant_factor();
+    let fallback: Vec<f64> = d.original_vertex.iter().map(|&j| fine[j as usize]).collect();
+    let factor = crate::geometry::metric::transfer_factor(fine, level.coarse.mass(), &cell_of_level, &fallback);
+    let shape = Shape::with_scale_invariant_factor(d.mesh, level.coarse.alpha(), crate::geometry::metric::DEFAULT_EPS, factor).ok()?;
+    shape.dirichlet_symbolic().ok()?;
+    shape.metric_mass(Metric::ScaleInvariant);
+    Some(super::WarmUpMesh { shape, to_level: d.original_vertex, cell_of_level })
+}
+
+impl super::WarmUpMesh {
+    /// A function on the warm-up mesh's vertices carried to the optimisation mesh's (each
+    /// vertex takes its cell's value).
+    fn carry(&self, x: &[f64]) -> Vec<f64> {
+        self.cell_of_level.iter().map(|&j| x[j as usize]).collect()
+    }
 }
 
 /// The optimisation mesh as a [`Shape`]. When it is a decimation of `full`, its
@@ -405,7 +443,7 @@ fn optimise(loc: &Localizer, level: &OptimisationMesh, target: &Target, starts: 
             loc.workers.install(|| {
                 starts
                     .par_iter()
-                    .map(|s| optimise_start(&level.coarse, &target.terms, s, iterations, &workers_progress, &done))
+                    .map(|s| optimise_start(level, &target.terms, s, iterations, &workers_progress, &done))
                     .collect()
             })
         });
@@ -434,30 +472,29 @@ fn optimise(loc: &Localizer, level: &OptimisationMesh, target: &Target, starts: 
     Ok((runs, first_error.map(|e| format!("some starts failed and were skipped: {e}"))))
 }
 
-/// `iterations` trust-region iterations from one start, then its spectra and eigenvector
-/// energy at the optimum.
-fn optimise_start(shape: &Shape, terms: &[SpectrumTerm], start: &Start, iterations: usize, progress: &Progress, done: &AtomicUsize) -> Result<Run> {
+/// `iterations` trust-region iterations from one start (the first [`WARM_UP_SHARE`] of them
+/// on the warm-up mesh, if there is one; `w` carried to the optimisation mesh by cells), then
+/// its spectra and eigenvector energy at the optimum.
+fn optimise_start(level: &OptimisationMesh, terms: &[SpectrumTerm], start: &Start, iterations: usize, progress: &Progress, done: &AtomicUsize) -> Result<Run> {
     progress.check()?;
+    let shape = &level.coarse;
+    let warm_iterations = ((iterations as f64 * WARM_UP_SHARE) as usize).min(iterations.saturating_sub(1));
+    let warm_up = if warm_iterations > 0 { level.warmup.get_or_init(|| warmup_mesh(level)).as_ref() } else { None };
+    let mut w0 = start.w0.clone();
+    let (mut history, mut evaluations, mut offset) = (Vec::new(), 0, 0);
     let mut cost = AlignmentCost::new(shape, terms.to_vec())?;
-    let params = TrustRegionParams { max_iterations: iterations, ..TrustRegionParams::default() };
-    let mut last_iteration = 0;
-    let (w, info) = minimize(
-        |w| {
-            cost.evaluate(w).map(|e| Point {
-                cost: e.cost,
-                gradient: e.gradient,
-                hessian: Some(Box::new(move |eta: &[f64]| e.hessian.apply(eta)) as HessianOperator),
-            })
-        },
-        start.w0.clone(),
-        &params,
-        |iteration, _| {
-            done.fetch_add(1, Ordering::Relaxed);
-            last_iteration = iteration + 1;
-            progress.check()?;
-            Ok(true)
-        },
-    )?;
+    if let Some(warm) = warm_up {
+        let w_warm = warm.to_level.iter().map(|&j| w0[j as usize]).collect();
+        let mut warm_cost = AlignmentCost::new(&warm.shape, terms.to_vec())?;
+        let (w, info) = trust_region(&mut warm_cost, w_warm, warm_iterations, progress, done)?;
+        w0 = warm.carry(&w);
+        // The warm-up's eigenvectors, carried over, start the first solves (not cold ones).
+        cost.seed(warm_cost.carried_blocks(|x| warm.carry(x)))?;
+        (history, evaluations, offset) = (info.history, warm_cost.evaluations, info.iterations);
+    }
+    let (w, info) = trust_region(&mut cost, w0, iterations - offset, progress, done)?;
+    history.extend(info.history);
+    let last_iteration = offset + info.iterations;
     // Credit the iterations skipped by an early convergence, so the progress bar ends at 1.
     done.fetch_add(iterations.saturating_sub(last_iteration), Ordering::Relaxed);
     let at_optimum = cost.evaluate(&w)?;
@@ -472,12 +509,40 @@ fn optimise_start(shape: &Shape, terms: &[SpectrumTerm], start: &Start, iteratio
         label: start.label.clone(),
         w,
         cost: at_optimum.cost,
-        iterations: info.iterations,
-        evaluations: cost.evaluations,
-        history: info.history,
+        iterations: last_iteration,
+        evaluations: evaluations + cost.evaluations,
+        history,
         eigenvalues: at_optimum.spectra.iter().map(|s| s.values.clone()).collect(),
         energy,
     })
+}
+
+/// `iterations` trust-region iterations of `cost` from `w0` (its Gauss-Newton model Hessian),
+/// each counted in `done`.
+fn trust_region(
+    cost: &mut AlignmentCost<'_>,
+    w0: Vec<f64>,
+    iterations: usize,
+    progress: &Progress,
+    done: &AtomicUsize,
+) -> Result<(Vec<f64>, TrustRegionInfo)> {
+    let params = TrustRegionParams { max_iterations: iterations, ..TrustRegionParams::default() };
+    minimize(
+        |w| {
+            cost.evaluate(w).map(|e| Point {
+                cost: e.cost,
+                gradient: e.gradient,
+                hessian: Some(Box::new(move |eta: &[f64]| e.hessian.apply(eta)) as HessianOperator),
+            })
+        },
+        w0,
+        &params,
+        |_, _| {
+            done.fetch_add(1, Ordering::Relaxed);
+            progress.check()?;
+            Ok(true)
+        },
+    )
 }
 
 /// Stage 4: each run's region: the superlevel set of its eigenvector energy with the

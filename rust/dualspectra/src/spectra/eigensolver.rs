@@ -216,6 +216,31 @@ impl HamiltonianSolver {
         self.unchecked_solves
     }
 
+    /// The last solve's block: the `k` wanted eigenvectors and the guard ones, `M`-orthonormal.
+    pub(crate) fn block(&self) -> Option<&Mat<f64>> {
+        self.block.as_ref().map(|(_, x)| x)
+    }
+
+    /// Start the next solve from `block` (`n` rows, at least `k` columns; e.g. a coarser
+    /// mesh's eigenvectors carried over): warm and inertia-checked, cold if that fails.
+    /// The columns need not be orthonormal (the solve starts with a Rayleigh-Ritz step).
+    pub(crate) fn seed(&mut self, block: Mat<f64>) -> Result<()> {
+        if block.nrows() != self.n() || block.ncols() < self.params.k || block.ncols() >= self.n() {
+            return Err(Error::InvalidArgument(format!(
+                "a seed block of {} x {} for n = {} and k = {}",
+                block.nrows(),
+                block.ncols(),
+                self.n(),
+                self.params.k
+            )));
+        }
+        self.reset();
+        self.block = Some((Vec::new(), block));
+        // The numeric factor is not of the next potential: refactorise on the first solve.
+        self.last_warm_iterations = usize::MAX;
+        Ok(())
+    }
+
     /// Forget the previous spectrum: the next solve is cold.
     pub fn reset(&mut self) {
         self.spectrum = None;
@@ -589,4 +614,38 @@ fn inertia_cut(lam: &[f64], k: usize, accuracy: f64, sigma: f64) -> f64 {
         j -= 1;
     }
     lam[j] - hair
+}
+
+#[cfg(test)]
+mod seed_tests {
+    use super::*;
+    use crate::mesh::generate::icosphere;
+    use crate::operators::{cotangent_stiffness, lumped_mass};
+
+    /// A solve seeded with a coarser mesh's eigenvectors, carried over by nearest vertices
+    /// (as the warm-up mesh hands over to the optimisation mesh), equals a cold solve and
+    /// needs fewer iterations than one.
+    #[test]
+    fn a_solve_seeded_from_a_coarser_mesh_matches_cold_in_fewer_iterations() {
+        let (coarse, fine) = (icosphere(3), icosphere(4));
+        let well = |m: &crate::mesh::TriMesh| -> Vec<f64> { m.vertices().iter().map(|p| if p[2] > 0.3 { 0.0 } else { 1e3 }).collect() };
+        let solver = |m: &crate::mesh::TriMesh| HamiltonianSolver::new(&cotangent_stiffness(m), &lumped_mass(m), EigenParams { k: 12, ..EigenParams::default() }).unwrap();
+        let mut on_coarse = solver(&coarse);
+        on_coarse.solve(&well(&coarse)).unwrap();
+        let block = on_coarse.block().unwrap();
+        let cell = crate::mesh::nearest::nearest_vertices(coarse.vertices(), fine.vertices()).unwrap();
+        let carried = Mat::from_fn(fine.n_vertices(), block.ncols(), |i, j| block[(cell[i] as usize, j)]);
+
+        let cold = solver(&fine).solve_cold(&well(&fine)).unwrap().clone();
+        let mut seeded = solver(&fine);
+        seeded.seed(carried).unwrap();
+        let warm = seeded.solve(&well(&fine)).unwrap().clone();
+        assert!(warm.info.warm && warm.info.converged, "{:?}", warm.info);
+        for (a, b) in warm.values.iter().zip(&cold.values) {
+            assert!((a - b).abs() <= 1e-8 * b.abs(), "seeded {a} vs cold {b}");
+        }
+        assert!(warm.info.iterations < cold.info.iterations, "seeded {:?}, cold {:?}", warm.info, cold.info);
+        // A block of the wrong shape is refused.
+        assert!(solver(&fine).seed(Mat::zeros(10, 14)).is_err());
+    }
 }
