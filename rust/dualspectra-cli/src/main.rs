@@ -42,7 +42,6 @@ enum Command {
 }
 
 fn main() -> ExitCode {
-    restore_sigpipe();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Spectrum(args) => commands::spectrum::run(args),
@@ -61,15 +60,5 @@ fn main() -> ExitCode {
             error::report(&e);
             e.exit_code()
         }
-    }
-}
-
-/// Rust ignores SIGPIPE, so printing to a closed pipe (`dualspectra bench | head`) panics;
-/// with the default action the process ends quietly, as other command-line tools do.
-fn restore_sigpipe() {
-    #[cfg(unix)]
-    // SAFETY: called first in main, before any thread exists; SIG_DFL is a valid action.
-    unsafe {
-        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
 }
