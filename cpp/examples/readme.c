@@ -33,7 +33,8 @@ int main(int argc, char** argv) {
   check(ds_localizer_locate(localizer, part, NULL, NULL, &found));
 
   /* The region: one flag per vertex of full. The confidence, in [0, 1]: the estimated
-     probability that the region overlaps the true one with IoU >= 0.5; reject low ones. */
+     probability that the partial is part of full and the region overlaps the true one with
+     IoU >= 0.5; reject low ones. */
   size_t n = ds_mesh_n_vertices(full), in_region = 0;
   uint8_t* region = malloc(n);
   double confidence;

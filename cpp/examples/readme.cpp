@@ -21,7 +21,7 @@ int main(int argc, char** argv) {
     dualspectra::Localizer localizer(full, options);           // prepare the full shape once,
     dualspectra::Localization found = localizer.locate(part);  // then locate any partial on it
     // found.region: one flag per vertex of full; found.confidence, in [0, 1]: the estimated
-    // probability that IoU >= 0.5, reject low ones. In one call: dualspectra::localize(full, part, options)
+    // probability that the partial is part of full and IoU >= 0.5, reject low ones. In one call: dualspectra::localize(full, part, options)
     std::printf("region: %zu of %zu vertices, confidence %.2f\n", found.region_vertices().size(),
                 full.n_vertices(), found.confidence);
 
