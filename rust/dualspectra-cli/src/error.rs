@@ -40,14 +40,19 @@ impl std::error::Error for CliError {}
 
 impl CliError {
     pub fn exit_code(&self) -> ExitCode {
-        ExitCode::from(match self {
+        ExitCode::from(self.code())
+    }
+
+    /// The exit status [`CliError::exit_code`] gives.
+    pub fn code(&self) -> u8 {
+        match self {
             CliError::Usage(_) | CliError::Core(Error::InvalidArgument(_)) => 2,
             CliError::Core(Error::Io { .. } | Error::Parse { .. } | Error::InvalidMeshFile { .. } | Error::PreparedShape { .. }) => 3,
             CliError::Core(Error::Numerical(_)) => 4,
             CliError::Output { .. } => 5,
             CliError::Core(Error::Cancelled) => 130,
             CliError::Core(_) | CliError::Internal(_) => 1,
-        })
+        }
     }
 
     /// The message without the `error: ` prefix, on one line, with a hint where one helps.

@@ -2,6 +2,16 @@
 //! each `commands::<name>::run(args) -> Result<(), CliError>`; errors are printed by
 //! [`error::report`] as one line and mapped to an exit code.
 
+/// `println!` that ends the program quietly on a closed pipe ([`output::print_line`]).
+macro_rules! outln {
+    () => {
+        $crate::output::print_line(format_args!(""))
+    };
+    ($($arg:tt)*) => {
+        $crate::output::print_line(format_args!($($arg)*))
+    };
+}
+
 mod commands;
 mod error;
 mod input;

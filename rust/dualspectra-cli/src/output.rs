@@ -69,6 +69,23 @@ pub fn check_output_path(path: &Path, inputs: &[&Path]) -> Result<(), CliError> 
     }
 }
 
+/// One line of a command's report on standard output (the `outln!` macro, `println!`'s
+/// form). A closed pipe (`dualspectra bench | head`) ends the program quietly with success,
+/// as [`print_stdout`] treats it, where `println!` panics; any other write error is reported
+/// as one line and exits with the output error's code.
+pub fn print_line(args: std::fmt::Arguments<'_>) {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    if let Err(source) = writeln!(out, "{args}") {
+        if source.kind() == std::io::ErrorKind::BrokenPipe {
+            std::process::exit(0);
+        }
+        let e = CliError::Output { path: "<standard output>".into(), source };
+        crate::error::report(&e);
+        std::process::exit(i32::from(e.code()));
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

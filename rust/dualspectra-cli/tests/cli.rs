@@ -366,3 +366,17 @@ fn a_closed_output_pipe_is_not_a_crash() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(out.stderr.is_empty(), "{}", String::from_utf8_lossy(&out.stderr));
 }
+
+/// A report printed line by line into a pipe the reader has closed (`dualspectra similarity
+/// ... | head -c 0`) ends quietly with success too, never with a panic.
+#[test]
+fn a_closed_pipe_under_a_line_report_is_not_a_crash() {
+    use std::process::Stdio;
+    let a = write_mesh("pipe_a.off", &icosphere(2));
+    let b = write_mesh("pipe_b.off", &icosphere(3));
+    let mut child = bin().args(["similarity", "--quiet", "--k", "5", &a, &b]).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(out.stderr.is_empty(), "{}", String::from_utf8_lossy(&out.stderr));
+}

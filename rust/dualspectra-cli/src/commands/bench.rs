@@ -64,7 +64,7 @@ pub struct Args {
 
 fn print_row(r: &PairResult) {
     match &r.error {
-        None => println!(
+        None => outln!(
             "{:<28} {:>6} {:>6} {:>6.3} {:>6.3} {:>6.3} {:>8.3} {:>5.2} {:>8.2}{}",
             r.name,
             r.region_size,
@@ -78,7 +78,7 @@ fn print_row(r: &PairResult) {
             // The scale left after the transform and the localizer's factor (1: undone).
             if r.applied_factor != 1.0 || r.scale != 1.0 { format!("  scale x{:.3}", r.scale * r.applied_factor) } else { String::new() }
         ),
-        Some(e) => println!("{:<28} failed: {e}", r.name),
+        Some(e) => outln!("{:<28} failed: {e}", r.name),
     }
 }
 
@@ -96,7 +96,7 @@ fn set_svg(results: &[PairResult], mode: Mode, title: &str) -> Result<String, Cl
 
 /// Run and print one set; `Err` only for cancellation or a dataset that cannot be listed.
 fn run_set(dataset: &Dataset, pairs: &[Pair], options: &Options, transform: Transform, quiet: bool) -> Result<Vec<PairResult>, CliError> {
-    println!(
+    outln!(
         "{:<28} {:>6} {:>6} {:>6} {:>6} {:>6} {:>8} {:>5} {:>8}",
         "pair", "|R|", "|G|", "prec", "recall", "IoU", "IoU_sym", "conf", "seconds"
     );
@@ -121,7 +121,7 @@ fn run_set(dataset: &Dataset, pairs: &[Pair], options: &Options, transform: Tran
 }
 
 fn print_summary(s: &Summary, mode: Mode) {
-    println!(
+    outln!(
         "mean ({} pairs, {} failed, mode {}): precision {:.3} recall {:.3} IoU {:.3} | symmetry-aware: precision {:.3} recall {:.3} IoU {:.3} | area-weighted IoU {:.3} | median {:.2} s/pair",
         s.pairs,
         s.failed,
@@ -136,14 +136,14 @@ fn print_summary(s: &Summary, mode: Mode) {
         s.median_seconds
     );
     let t = &s.median_stage_seconds;
-    println!(
+    outln!(
         "median seconds per stage: preparation of the full shape {:.2} (once per shape), preprocessing {:.2}, starts {:.2}, optimisation {:.2}, regions {:.2}, selection {:.2}",
         t.preparation, t.preprocessing, t.starts, t.optimisation, t.region, t.selection
     );
 }
 
 fn print_set_line(set: &str, s: &Summary) {
-    println!(
+    outln!(
         "{:<16} {:>5} {:>6} {:>6} {:>6} {:>6} {:>8} {:>9}",
         set, s.pairs, s.failed, format!("{:.3}", s.mean.precision), format!("{:.3}", s.mean.recall), format!("{:.3}", s.mean.iou), format!("{:.3}", s.mean_sym.iou), format!("{:.2}", s.median_seconds)
     );
@@ -201,10 +201,10 @@ fn run_all(args: &Args, options: &Options) -> Result<(), CliError> {
         let dataset = Dataset::open(root.join(set))?;
         let pairs = select_pairs(&dataset, args)?;
         if pairs.is_empty() {
-            println!("== {set}: no pairs selected");
+            outln!("== {set}: no pairs selected");
             continue;
         }
-        println!("== {set} ({} pairs, {})", pairs.len(), dataset.root().display());
+        outln!("== {set} ({} pairs, {})", pairs.len(), dataset.root().display());
         let results = run_set(&dataset, &pairs, options, args.transform, args.quiet)?;
         let summary = summarize(&results);
         print_summary(&summary, options.mode);
@@ -217,8 +217,8 @@ fn run_all(args: &Args, options: &Options) -> Result<(), CliError> {
         return Err(CliError::Usage(format!("{}: no pairs to run (check --filter / --limit)", root.display())));
     }
     let overall = mean_of_sets(&sets.iter().map(|s| &s.summary).collect::<Vec<_>>());
-    println!("\n== summary (mode {})", options.mode);
-    println!("{:<16} {:>5} {:>6} {:>6} {:>6} {:>6} {:>8} {:>9}", "set", "pairs", "failed", "prec", "recall", "IoU", "IoU_sym", "median_s");
+    outln!("\n== summary (mode {})", options.mode);
+    outln!("{:<16} {:>5} {:>6} {:>6} {:>6} {:>6} {:>8} {:>9}", "set", "pairs", "failed", "prec", "recall", "IoU", "IoU_sym", "median_s");
     for s in &sets {
         print_set_line(&s.set, &s.summary);
     }

@@ -62,7 +62,7 @@ pub fn run(args: Args) -> Result<(), CliError> {
         None,
     )
     .map_err(out_err)?;
-    println!(
+    outln!(
         "synthetic pair: full {} vertices, partial {} vertices ({:.0}% of the area), one arm bent by 50 degrees",
         pair.full.n_vertices(),
         pair.partial.n_vertices(),
@@ -72,7 +72,7 @@ pub fn run(args: Args) -> Result<(), CliError> {
         localize_with_bar((&pair.full, &full_path), (&pair.partial, &partial_path), &options, args.quiet, "localize")?;
     let s = scores(&loc.region, &pair.gt)?;
     let a = area_scores(&pair.full, &loc.region, &pair.gt)?;
-    println!(
+    outln!(
         "localized in {seconds:.2} s ({} starts, mode {}): precision {:.3} recall {:.3} IoU {:.3} (area-weighted IoU {:.3}), confidence {:.2}",
         loc.n_starts, options.mode, s.precision, s.recall, s.iou, a.iou, loc.confidence
     );
@@ -89,7 +89,7 @@ pub fn run(args: Args) -> Result<(), CliError> {
         &pair.partial,
     ))?;
     write_text(&args.out.join("result.json"), &json)?;
-    println!(
+    outln!(
         "wrote {}/{{full.off, partial.off, region.ply, ground_truth.ply, demo.png, result.json, dataset/}}\n\
          demo.png: the found region (left, front and back) and the true one (right), in red",
         args.out.display()

@@ -57,7 +57,7 @@ pub fn run(args: Args) -> Result<(), CliError> {
     screen.set_labels(labels)?;
     screen.save(&args.output)?;
     let (per_model, basis) = screen.bytes();
-    println!(
+    outln!(
         "{}: {} shapes described in {:.1} s ({} bytes per shape, {} for the basis)",
         args.output.display(),
         screen.len(),

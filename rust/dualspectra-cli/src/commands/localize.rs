@@ -328,7 +328,7 @@ pub fn run(args: Args) -> Result<(), CliError> {
                 dualspectra::Scale::Auto => format!(", scale {:.4} (estimated)", loc.scale),
                 _ => String::new(),
             };
-            println!(
+            outln!(
                 "region: {} of {} vertices, confidence {:.2}{scale}, cost {:.6e}, {:.2} s ({} starts)",
                 out.region.len(),
                 full_report.file_vertices,

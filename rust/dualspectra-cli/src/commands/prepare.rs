@@ -69,7 +69,7 @@ pub fn run(args: Args) -> Result<(), CliError> {
         other => CliError::Core(other),
     })?;
     let bytes = std::fs::metadata(&output).map(|m| m.len()).unwrap_or(0);
-    println!(
+    outln!(
         "prepared {} ({} vertices, {} optimisation vertices) in {:.2} s: {} ({:.1} MB)",
         args.full.display(),
         localizer.n_vertices(),

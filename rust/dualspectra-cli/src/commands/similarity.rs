@@ -199,7 +199,7 @@ pub fn run(args: Args) -> Result<(), CliError> {
         .max()
         .unwrap_or(4)
         .clamp(4, 24);
-    println!(
+    outln!(
         "dual ShapeDNA distances (k = {} regular + {} scale-invariant eigenvalues):",
         args.k, args.k
     );
@@ -207,13 +207,13 @@ pub fn run(args: Args) -> Result<(), CliError> {
     for n in &names {
         print!(" {:>w$}", n, w = w);
     }
-    println!();
+    outln!();
     for (i, n) in names.iter().enumerate() {
         print!("{:<w$}", n, w = w);
         for d in &dual.distances[i] {
             print!(" {:>w$.4}", d, w = w);
         }
-        println!();
+        outln!();
     }
     if let Some(path) = &args.svg {
         let svg = mds_svg(
