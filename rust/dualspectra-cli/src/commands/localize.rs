@@ -11,7 +11,7 @@
 
 use crate::error::CliError;
 use crate::input::read_input_mesh;
-use crate::output::{check_output_path, to_json_line, write_text};
+use crate::output::{check_output_path, print_stdout, to_json_line, write_text};
 use crate::render::{region_picture, write_png};
 use dualspectra::localizer::{OptionKind, OPTIONS, REMOVED_OPTIONS};
 use dualspectra::{Localization, Localizer, Options, Progress, Timings, TriMesh};
@@ -338,7 +338,7 @@ pub fn run(args: Args) -> Result<(), CliError> {
                 loc.n_starts
             );
         }
-        None => print!("{text}"),
+        None => print_stdout(&text)?,
     }
     Ok(())
 }

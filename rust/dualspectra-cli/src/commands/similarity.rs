@@ -203,17 +203,11 @@ pub fn run(args: Args) -> Result<(), CliError> {
         "dual ShapeDNA distances (k = {} regular + {} scale-invariant eigenvalues):",
         args.k, args.k
     );
-    print!("{:<w$}", "");
-    for n in &names {
-        print!(" {:>w$}", n, w = w);
-    }
-    outln!();
-    for (i, n) in names.iter().enumerate() {
-        print!("{:<w$}", n, w = w);
-        for d in &dual.distances[i] {
-            print!(" {:>w$.4}", d, w = w);
-        }
-        outln!();
+    let header: String = names.iter().map(|n| format!(" {n:>w$}")).collect();
+    outln!("{:<w$}{header}", "");
+    for (n, row) in names.iter().zip(&dual.distances) {
+        let cells: String = row.iter().map(|d| format!(" {d:>w$.4}")).collect();
+        outln!("{n:<w$}{cells}");
     }
     if let Some(path) = &args.svg {
         let svg = mds_svg(
