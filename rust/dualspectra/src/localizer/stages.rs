@@ -192,10 +192,8 @@ fn warmup_mesh(level: &OptimisationMesh) -> Option<super::WarmUpMesh> {
     }
     let d = crate::mesh::decimate::decimate(mesh, fraction).ok()?;
     let cell_of_level = crate::mesh::nearest::nearest_vertices(d.mesh.vertices(), mesh.vertices()).ok()?;
-    let fine = level.coarse.scale_invariant_factor();
-    let fallback: Vec<f64> = d.original_vertex.iter().map(|&j| fine[j as usize]).collect();
-    let factor = crate::geometry::metric::transfer_factor(fine, level.coarse.mass(), &cell_of_level, &fallback);
-    let shape = Shape::with_scale_invariant_factor(d.mesh, level.coarse.alpha(), crate::geometry::metric::DEFAULT_EPS, factor).ok()?;
+    let (fine, alpha) = (&level.coarse, level.coarse.alpha());
+    let shape = transferred_factor_shape(d.mesh, fine.scale_invariant_factor(), fine.mass(), &d.original_vertex, &cell_of_level, alpha).ok()?;
     shape.dirichlet_symbolic().ok()?;
     shape.metric_mass(Metric::ScaleInvariant);
     Some(super::WarmUpMesh { shape, to_level: d.original_vertex, cell_of_level })
@@ -221,9 +219,17 @@ fn coarse_shape(coarse: TriMesh, full: &TriMesh, coarse_to_full: &[u32], cell_of
     let curvature = crate::geometry::smoothed_gaussian_curvature(full);
     let fine = crate::geometry::metric::scale_invariant_factor(&curvature, alpha, eps);
     let fine_mass = crate::operators::mass::lumped_mass(full);
-    let fallback: Vec<f64> = coarse_to_full.iter().map(|&j| fine[j as usize]).collect();
-    let factor = crate::geometry::metric::transfer_factor(&fine, &fine_mass, cell_of_full, &fallback);
-    Shape::with_scale_invariant_factor(coarse, alpha, eps, factor)
+    transferred_factor_shape(coarse, &fine, &fine_mass, coarse_to_full, cell_of_full, alpha)
+}
+
+/// `coarse` as a [`Shape`] whose scale-invariant factor is the finer mesh's `fine_factor`
+/// integrated over the cells (`cell[i]`: the coarse vertex of fine vertex `i`; a coarse vertex
+/// with an empty cell takes the factor of the fine vertex it came from, `origin`;
+/// [`crate::geometry::metric::transfer_factor`]).
+fn transferred_factor_shape(coarse: TriMesh, fine_factor: &[f64], fine_mass: &[f64], origin: &[u32], cell: &[u32], alpha: f64) -> Result<Shape> {
+    let fallback: Vec<f64> = origin.iter().map(|&j| fine_factor[j as usize]).collect();
+    let factor = crate::geometry::metric::transfer_factor(fine_factor, fine_mass, cell, &fallback);
+    Shape::with_scale_invariant_factor(coarse, alpha, crate::geometry::metric::DEFAULT_EPS, factor)
 }
 
 /// The partial, scaled like the full shape, with its spectra and descriptors: what the

@@ -236,8 +236,6 @@ impl HamiltonianSolver {
         }
         self.reset();
         self.block = Some((Vec::new(), block));
-        // The numeric factor is not of the next potential: refactorise on the first solve.
-        self.last_warm_iterations = usize::MAX;
         Ok(())
     }
 
@@ -254,8 +252,9 @@ impl HamiltonianSolver {
         self.set_potential(potential)?;
         if self.params.warm_start && self.block.is_some() {
             // The old factor preconditions well while v moves little; refresh it when the
-            // last warm solve needed many iterations.
-            if !self.factor_current && self.last_warm_iterations > 3 {
+            // last warm solve needed many iterations, or when no solve made it (a seeded
+            // block: nothing checked yet).
+            if !self.factor_current && (self.last_warm_iterations > 3 || self.checked.is_none()) {
                 self.factorize()?;
             }
             if let Some(s) = self.warm()? {
