@@ -97,6 +97,10 @@ pub struct RegionScores {
 
 /// Score every candidate region on `full`: descriptor projections against `targets` (one
 /// `k_d x d` matrix per metric) and spectra against `target_values` (one per metric).
+/// `seeds[r][t]`, when given, starts the solve of region `r` and metric `t` (rows: the free
+/// vertices of `full`; e.g. the last eigenvectors of the run that region came from); without
+/// one (or with `seeds` empty) that solve is cold.
+#[allow(clippy::too_many_arguments)]
 pub fn selection_scores(
     full: &Shape,
     desc: &Mat<f64>,
@@ -105,15 +109,18 @@ pub fn selection_scores(
     target_values: &[Vec<f64>],
     heights: &[f64],
     regions: &[Vec<bool>],
+    seeds: &[Vec<Option<Mat<f64>>>],
 ) -> Result<RegionScores> {
     use rayon::prelude::*;
     let dir = full.dirichlet();
     let desc_free = restrict_rows(desc, &dir.free);
-    // Every (metric, region) solve is cold and independent: a warm start from another
-    // candidate's eigenvectors (a region elsewhere on the shape) converged to eigenpairs living
-    // in the walls, $\lambda \approx \tau$, missing the region's own (SHREC'16 victoria_4: 9
-    // of 32 solves). Independent solves also run in parallel, on the caller's rayon pool;
-    // per-metric terms are summed in metric order afterwards (deterministic).
+    // Every (metric, region) solve is independent, cold or seeded by that region's own run: a
+    // warm start from *another* candidate's eigenvectors (a region elsewhere on the shape)
+    // converged to eigenpairs living in the walls, $\lambda \approx \tau$, missing the
+    // region's own (SHREC'16 victoria_4: 9 of 32 solves); a seeded solve is inertia-checked
+    // and solved cold if it missed any. Independent solves also run in parallel, on the
+    // caller's rayon pool; per-metric terms are summed in metric order afterwards
+    // (deterministic).
     let jobs: Vec<(usize, usize)> = (0..metrics.len())
         .flat_map(|t| (0..regions.len()).map(move |r| (t, r)))
         .collect();
@@ -127,21 +134,34 @@ pub fn selection_scores(
                 .max(mu.len())
                 .min(dir.n_free().saturating_sub(1))
                 .max(1);
-            // Scores compare eigenvalues to a few percent and eigenfunctions integrated
-            // against descriptors: a residual of 1e-6 is ample (eigenvalue error ~ residual^2).
-            let params = EigenParams {
-                k,
-                tol: 1e-6,
-                ..EigenParams::default()
-            };
-            let mut solver = HamiltonianSolver::with_symbolic(full.dirichlet_symbolic()?, &mass, params)?;
             let r = &regions[ri];
             let v: Vec<f64> = dir
                 .free
                 .iter()
                 .map(|&i| if r[i as usize] { 0.0 } else { tau })
                 .collect();
-            let s = solver.solve_cold(&v)?;
+            let seed = seeds
+                .get(ri)
+                .and_then(|per_metric| per_metric.get(t))
+                .and_then(Option::as_ref)
+                .filter(|block| block.nrows() == v.len() && block.ncols() >= k);
+            // Scores compare eigenvalues to a few percent and eigenfunctions integrated
+            // against descriptors: a relative residual of 1e-4 is ample (eigenvalue error ~
+            // residual^2). Cold solves reach it at tolerance 1e-6, warm ones at 1e-8
+            // (`residual_bound`).
+            let params = EigenParams {
+                k,
+                tol: if seed.is_some() { 1e-8 } else { 1e-6 },
+                ..EigenParams::default()
+            };
+            let mut solver = HamiltonianSolver::with_symbolic(full.dirichlet_symbolic()?, &mass, params)?;
+            let s = match seed {
+                Some(block) => {
+                    solver.seed(block.clone())?;
+                    solver.solve(&v)?
+                }
+                None => solver.solve_cold(&v)?,
+            };
             let first = s.vectors.subcols(0, target.nrows().min(s.vectors.ncols()));
             let c = descriptor_projection(first, &mass, &desc_free);
             let mut diff = 0.0;

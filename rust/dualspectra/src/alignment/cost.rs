@@ -144,6 +144,12 @@ impl<'a> AlignmentCost<'a> {
             .collect()
     }
 
+    /// Each term's last eigensolver block (the free vertices' rows: the `k` wanted
+    /// eigenvectors and the guard ones), `None` before the first solve.
+    pub fn blocks(&self) -> Vec<Option<faer::Mat<f64>>> {
+        self.solvers.iter().map(|solver| solver.block().cloned()).collect()
+    }
+
     /// Start each term's next eigensolve from `blocks` (columns over all vertices of this
     /// shape; [`AlignmentCost::carried_blocks`] of the same terms elsewhere).
     pub fn seed(&mut self, blocks: Vec<Option<Vec<Vec<f64>>>>) -> Result<()> {

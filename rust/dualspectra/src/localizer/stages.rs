@@ -266,6 +266,9 @@ struct Run {
     eigenvalues: Vec<Vec<f64>>,
     /// Mean eigenvector energy per optimisation vertex at the optimum.
     energy: Vec<f64>,
+    /// Each term's last eigensolver block at the optimum (free vertices): it starts the
+    /// selection's solves of this run's region.
+    blocks: Vec<Option<Mat<f64>>>,
 }
 
 /// A run with its region on both meshes and its scores.
@@ -392,17 +395,26 @@ fn target(loc: &Localizer, partial: &TriMesh) -> Result<Target> {
         return Err(MeshError::NoInteriorVertex.into());
     }
     let (k_regular, k_si) = options.mode.counts(options.k);
-    let (mut terms, mut spectra) = (Vec::new(), Vec::new());
-    for (metric, k) in [(Metric::Regular, k_regular), (Metric::ScaleInvariant, k_si)] {
-        if k > 0 {
-            let spectrum = shape.dirichlet_spectrum(metric, k)?;
+    let wanted: Vec<(Metric, usize)> = [(Metric::Regular, k_regular), (Metric::ScaleInvariant, k_si)].into_iter().filter(|&(_, k)| k > 0).collect();
+    // The spectra (one single-threaded solve each) and the descriptors are independent: they
+    // run side by side on the localizer's pool, each result the same as alone.
+    let (solved, descriptors) = rayon::join(
+        || {
+            use rayon::prelude::*;
+            wanted.par_iter().map(|&(metric, k)| shape.dirichlet_spectrum(metric, k)).collect::<Result<Vec<Spectrum>>>()
+        },
+        || shot::shot_descriptors(shape.mesh(), shot::DEFAULT_RADIUS_FRACTION, shot::DEFAULT_MIN_NEIGHBORS),
+    );
+    let (spectra, descriptors) = (solved?, descriptors?);
+    let terms = wanted
+        .iter()
+        .zip(&spectra)
+        .map(|(&(metric, _), spectrum)| {
             let values = spectrum.values.clone();
             let height = 0.5 * STEP_HEIGHT_FACTOR * values[values.len() - 1];
-            terms.push(SpectrumTerm { metric, target: values, height });
-            spectra.push(spectrum);
-        }
-    }
-    let descriptors = shot::shot_descriptors(shape.mesh(), shot::DEFAULT_RADIUS_FRACTION, shot::DEFAULT_MIN_NEIGHBORS)?;
+            SpectrumTerm { metric, target: values, height }
+        })
+        .collect();
     // The matches are filled in once the optimisation mesh is chosen.
     let has_holes = has_holes(shape.mesh());
     Ok(Target { shape, area, factor, terms, spectra, descriptors, matches: None, has_holes, warnings })
@@ -520,6 +532,7 @@ fn optimise_start(level: &OptimisationMesh, terms: &[SpectrumTerm], start: &Star
         history,
         eigenvalues: at_optimum.spectra.iter().map(|s| s.values.clone()).collect(),
         energy,
+        blocks: cost.blocks(),
     })
 }
 
@@ -583,6 +596,7 @@ fn score(loc: &Localizer, level: &OptimisationMesh, target: &Target, candidates:
         &target_values,
         &heights,
         &coarse_regions,
+        &candidates.iter().map(|(run, _, _)| run.blocks.clone()).collect::<Vec<_>>(),
     )?;
     let shares = match &target.matches {
         Some(m) => selection::vote_shares(&m.votes, &borrowed)?,
