@@ -100,7 +100,13 @@ pub struct AlignmentCost<'a> {
 }
 
 impl<'a> AlignmentCost<'a> {
+    /// One term per spectrum, solved to [`EIGEN_TOLERANCE`].
     pub fn new(shape: &'a Shape, terms: Vec<SpectrumTerm>) -> Result<Self> {
+        Self::with_tolerance(shape, terms, EIGEN_TOLERANCE)
+    }
+
+    /// [`AlignmentCost::new`] with the eigensolves' tolerance `tol` ([`EigenParams::tol`]).
+    pub fn with_tolerance(shape: &'a Shape, terms: Vec<SpectrumTerm>, tol: f64) -> Result<Self> {
         if terms.is_empty() {
             return Err(Error::InvalidArgument("no spectrum to align".into()));
         }
@@ -112,7 +118,7 @@ impl<'a> AlignmentCost<'a> {
                 return Err(Error::InvalidArgument("target eigenvalues must be positive and finite".into()));
             }
             let mass = dir.restrict(shape.metric_mass(t.metric));
-            let params = EigenParams { k: t.target.len(), tol: EIGEN_TOLERANCE, ..EigenParams::default() };
+            let params = EigenParams { k: t.target.len(), tol, ..EigenParams::default() };
             solvers.push(HamiltonianSolver::with_symbolic(shape.dirichlet_symbolic()?, &mass, params)?);
             masses.push(mass);
         }

@@ -43,6 +43,12 @@ pub const FINE_RESOLUTION_FACTOR: usize = 2;
 /// "Warm-up on a coarser mesh").
 pub const WARM_UP_FRACTION: f64 = 0.5;
 
+/// Eigensolver tolerance on the warm-up mesh (warm solves to a relative residual of
+/// $10^{-2}$, against $10^{-3}$ at [`crate::alignment::cost::EIGEN_TOLERANCE`]): the warm-up
+/// only brings $w$ near an optimum the optimisation mesh then refines
+/// (docs/benchmarks/options.md, "Warm-up on a coarser mesh").
+pub const WARM_UP_EIGEN_TOLERANCE: f64 = 1e-6;
+
 /// The share of `max_iterations` taken on the warm-up mesh (rounded down; at least one
 /// iteration is left for the optimisation mesh).
 pub const WARM_UP_SHARE: f64 = 0.8;
@@ -503,7 +509,7 @@ fn optimise_start(level: &OptimisationMesh, terms: &[SpectrumTerm], start: &Star
     let mut cost = AlignmentCost::new(shape, terms.to_vec())?;
     if let Some(warm) = warm_up {
         let w_warm = warm.to_level.iter().map(|&j| w0[j as usize]).collect();
-        let mut warm_cost = AlignmentCost::new(&warm.shape, terms.to_vec())?;
+        let mut warm_cost = AlignmentCost::with_tolerance(&warm.shape, terms.to_vec(), WARM_UP_EIGEN_TOLERANCE)?;
         let (w, info) = trust_region(&mut warm_cost, w_warm, warm_iterations, progress, done)?;
         w0 = warm.carry(&w);
         // The warm-up's eigenvectors, carried over, start the first solves (not cold ones).
