@@ -273,7 +273,7 @@ struct Run {
     /// Mean eigenvector energy per optimisation vertex at the optimum.
     energy: Vec<f64>,
     /// Each term's last eigensolver block at the optimum (free vertices): it starts the
-    /// selection's solves of this run's region.
+    /// selection's solves of this run's region (taken from the run there).
     blocks: Vec<Option<Mat<f64>>>,
 }
 
@@ -585,7 +585,7 @@ fn regions(loc: &Localizer, level: &OptimisationMesh, target: &Target, runs: Vec
 /// Stage 5: every candidate's scores ([`crate::selection`]): descriptor projections and
 /// region cost on the optimisation mesh, the partial fit, the boundary misfit on the full
 /// shape.
-fn score(loc: &Localizer, level: &OptimisationMesh, target: &Target, candidates: Vec<(Run, CoarseMask, FullMask)>) -> Result<Vec<Scored>> {
+fn score(loc: &Localizer, level: &OptimisationMesh, target: &Target, mut candidates: Vec<(Run, CoarseMask, FullMask)>) -> Result<Vec<Scored>> {
     let metrics: Vec<Metric> = target.terms.iter().map(|t| t.metric).collect();
     let heights: Vec<f64> = target.terms.iter().map(|t| 2.0 * t.height).collect();
     let target_values: Vec<Vec<f64>> = target.terms.iter().map(|t| t.target.clone()).collect();
@@ -602,7 +602,7 @@ fn score(loc: &Localizer, level: &OptimisationMesh, target: &Target, candidates:
         &target_values,
         &heights,
         &coarse_regions,
-        &candidates.iter().map(|(run, _, _)| run.blocks.clone()).collect::<Vec<_>>(),
+        &candidates.iter_mut().map(|(run, _, _)| std::mem::take(&mut run.blocks)).collect::<Vec<_>>(),
     )?;
     let shares = match &target.matches {
         Some(m) => selection::vote_shares(&m.votes, &borrowed)?,
