@@ -24,24 +24,48 @@ fn bumpy_sphere() -> TriMesh {
     m.map_positions(|p| p.map(|x| x * s)).unwrap()
 }
 
+/// The bumpy sphere cut at its equator: the top cap as the partial, everything the
+/// selection's scores need, and the two candidate regions (the true top, the wrong bottom).
+struct TopCut {
+    full_shape: Shape,
+    d_full: faer::Mat<f64>,
+    metrics: [Metric; 2],
+    targets: Vec<faer::Mat<f64>>,
+    mu: Vec<Vec<f64>>,
+    heights: Vec<f64>,
+    regions: Vec<Vec<bool>>,
+}
+
+impl TopCut {
+    /// With the partial's `k` lowest Dirichlet eigenvalues per metric.
+    fn new(k: usize) -> Self {
+        let full = bumpy_sphere();
+        let v = full.vertices();
+        let top: Vec<bool> = v.iter().map(|p| p[2] > 0.03).collect();
+        let bottom: Vec<bool> = v.iter().map(|p| p[2] < -0.03).collect();
+        let faces: Vec<[u32; 3]> = full.faces().iter().filter(|f| f.iter().all(|&i| top[i as usize])).copied().collect();
+        let (part, _) = TriMesh::new_dropping_isolated(v.to_vec(), faces).unwrap();
+        let part_shape = Shape::new(part.clone());
+        let metrics = [Metric::Regular, Metric::ScaleInvariant];
+        let mu: Vec<Vec<f64>> = metrics.iter().map(|&m| part_shape.dirichlet_spectrum(m, k).unwrap().values).collect();
+        let heights: Vec<f64> = mu.iter().map(|m| 50.0 * m[k - 1]).collect();
+        let d_full = shot_descriptors(&full, DEFAULT_RADIUS_FRACTION, DEFAULT_MIN_NEIGHBORS).unwrap();
+        let d_part = shot_descriptors(&part, DEFAULT_RADIUS_FRACTION, DEFAULT_MIN_NEIGHBORS).unwrap();
+        let targets = partial_signatures(&part_shape, &d_part, &metrics).unwrap();
+        TopCut { full_shape: Shape::new(full), d_full, metrics, targets, mu, heights, regions: vec![top, bottom] }
+    }
+
+    /// [`selection_scores`] of the two regions, each solve seeded by `seeds` (none: cold).
+    fn scores(&self, seeds: &[Vec<Option<faer::Mat<f64>>>]) -> dualspectra::lab::selection::RegionScores {
+        selection_scores(&self.full_shape, &self.d_full, &self.metrics, &self.targets, &self.mu, &self.heights, &self.regions, seeds).unwrap()
+    }
+}
+
 #[test]
 fn the_true_region_reproduces_the_partials_spectra_and_descriptors() {
-    let full = bumpy_sphere();
-    let v = full.vertices();
-    let top: Vec<bool> = v.iter().map(|p| p[2] > 0.03).collect();
-    let bottom: Vec<bool> = v.iter().map(|p| p[2] < -0.03).collect();
-    let faces: Vec<[u32; 3]> = full.faces().iter().filter(|f| f.iter().all(|&i| top[i as usize])).copied().collect();
-    let (part, _) = TriMesh::new_dropping_isolated(v.to_vec(), faces).unwrap();
-    let (full_shape, part_shape) = (Shape::new(full.clone()), Shape::new(part.clone()));
-    let metrics = [Metric::Regular, Metric::ScaleInvariant];
     let k = 10;
-    let mu: Vec<Vec<f64>> = metrics.iter().map(|&m| part_shape.dirichlet_spectrum(m, k).unwrap().values).collect();
-    let heights: Vec<f64> = mu.iter().map(|m| 50.0 * m[k - 1]).collect();
-    let d_full = shot_descriptors(&full, DEFAULT_RADIUS_FRACTION, DEFAULT_MIN_NEIGHBORS).unwrap();
-    let d_part = shot_descriptors(&part, DEFAULT_RADIUS_FRACTION, DEFAULT_MIN_NEIGHBORS).unwrap();
-    let targets = partial_signatures(&part_shape, &d_part, &metrics).unwrap();
-    let regions = vec![top, bottom];
-    let s = selection_scores(&full_shape, &d_full, &metrics, &targets, &mu, &heights, &regions, &[]).unwrap();
+    let cut = TopCut::new(k);
+    let s = cut.scores(&[]);
     let (rc, desc) = (&s.region_cost, &s.descriptors);
     eprintln!("region cost {rc:?}, descriptor score {desc:?}");
     // The true region's step potential gives the partial's spectra up to the leak through the
@@ -57,35 +81,21 @@ fn the_true_region_reproduces_the_partials_spectra_and_descriptors() {
 
 #[test]
 fn seeded_selection_solves_score_as_cold_ones() {
-    let full = bumpy_sphere();
-    let v = full.vertices();
-    let top: Vec<bool> = v.iter().map(|p| p[2] > 0.03).collect();
-    let bottom: Vec<bool> = v.iter().map(|p| p[2] < -0.03).collect();
-    let faces: Vec<[u32; 3]> = full.faces().iter().filter(|f| f.iter().all(|&i| top[i as usize])).copied().collect();
-    let (part, _) = TriMesh::new_dropping_isolated(v.to_vec(), faces).unwrap();
-    let (full_shape, part_shape) = (Shape::new(full.clone()), Shape::new(part.clone()));
-    let metrics = [Metric::Regular, Metric::ScaleInvariant];
-    let k = 10;
-    let mu: Vec<Vec<f64>> = metrics.iter().map(|&m| part_shape.dirichlet_spectrum(m, k).unwrap().values).collect();
-    let heights: Vec<f64> = mu.iter().map(|m| 50.0 * m[k - 1]).collect();
-    let d_full = shot_descriptors(&full, DEFAULT_RADIUS_FRACTION, DEFAULT_MIN_NEIGHBORS).unwrap();
-    let d_part = shot_descriptors(&part, DEFAULT_RADIUS_FRACTION, DEFAULT_MIN_NEIGHBORS).unwrap();
-    let targets = partial_signatures(&part_shape, &d_part, &metrics).unwrap();
-    let regions = vec![top, bottom];
+    let cut = TopCut::new(10);
     // A run's last blocks: the relaxed potential of a region (tanh(-2) inside, tanh(2) out).
     let blocks_near = |region: &[bool]| {
-        let terms = metrics.iter().zip(&mu).zip(&heights).map(|((&metric, m), &h)| SpectrumTerm { metric, target: m.clone(), height: 0.5 * h }).collect();
-        let mut cost = AlignmentCost::new(&full_shape, terms).unwrap();
+        let terms = cut.metrics.iter().zip(&cut.mu).zip(&cut.heights).map(|((&metric, m), &h)| SpectrumTerm { metric, target: m.clone(), height: 0.5 * h }).collect();
+        let mut cost = AlignmentCost::new(&cut.full_shape, terms).unwrap();
         cost.evaluate(&region.iter().map(|&inside| if inside { -2.0 } else { 2.0 }).collect::<Vec<_>>()).unwrap();
         cost.blocks()
     };
-    let cold = selection_scores(&full_shape, &d_full, &metrics, &targets, &mu, &heights, &regions, &[]).unwrap();
+    let cold = cut.scores(&[]);
     // Each region seeded by its own run, then each by the *other* region's (eigenvectors
     // living elsewhere: the inertia check must catch what they miss).
-    let own = vec![blocks_near(&regions[0]), blocks_near(&regions[1])];
+    let own = vec![blocks_near(&cut.regions[0]), blocks_near(&cut.regions[1])];
     let crossed = vec![own[1].clone(), own[0].clone()];
     for seeds in [own, crossed] {
-        let seeded = selection_scores(&full_shape, &d_full, &metrics, &targets, &mu, &heights, &regions, &seeds).unwrap();
+        let seeded = cut.scores(&seeds);
         for (a, b) in cold.region_cost.iter().zip(&seeded.region_cost).chain(cold.descriptors.iter().zip(&seeded.descriptors)) {
             // Both solved to a relative residual of ~1e-4: eigenvalues to ~1e-8, the
             // descriptor projections (squared eigenfunctions) to ~1e-4.
