@@ -137,6 +137,12 @@ pub mod lab {
         localizer.start_regions(partial)
     }
 
+    /// The factor [`Localizer::locate`] multiplies `partial` by (the `scale` option applied,
+    /// or estimated with `auto`), without locating it.
+    pub fn partial_factor(localizer: &Localizer, partial: &TriMesh) -> Result<f64> {
+        localizer.partial_factor(partial)
+    }
+
     /// For each optimisation vertex, the full-mesh vertex it is (increasing).
     pub fn optimisation_vertex_origins(localizer: &Localizer) -> &[u32] {
         localizer.optimisation_vertex_origins()

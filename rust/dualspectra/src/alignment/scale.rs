@@ -21,6 +21,11 @@ use faer::Mat;
 pub const MIN_AREA_FRACTION: f64 = 1e-2;
 /// Grid points per decade of area fraction (a step of about 10 % in the linear factor).
 const STEPS_PER_DECADE: usize = 12;
+/// The scan's first pass takes every this many hypotheses (a step of about 21 % in $s$).
+const COARSE_STRIDE: usize = 2;
+/// The scan's second pass refines around this many of the first pass's lowest local minima
+/// (the descriptor distance can have a narrow dip beside a flat stretch).
+const REFINED_MINIMA: usize = 2;
 /// Partial keypoints described per hypothesis.
 const KEYPOINTS: usize = 200;
 
@@ -38,26 +43,54 @@ pub fn estimate_scale(full_descriptors: &Mat<f64>, partial: &TriMesh) -> Result<
     let keypoints: Vec<u32> = (0..n as u32).step_by(step).collect();
     let log_a = area_grid();
     let count = log_a.len();
-    let costs = log_a
-        .iter()
-        .map(|&la| {
-            let s = (10f64.powf(la) / area).sqrt();
-            let d = shot::shot_keypoint_descriptors(partial, &keypoints, shot::DEFAULT_RADIUS_FRACTION / s, shot::DEFAULT_MIN_NEIGHBORS)?;
-            Ok(mean_nearest_distance(full_descriptors, &d))
-        })
-        .collect::<Result<Vec<f64>>>()?;
-    let best = (0..count).min_by(|&a, &b| costs[a].total_cmp(&costs[b])).unwrap_or(0);
+    let (best, costs) = coarse_to_fine_minimum(count, |i| {
+        let s = (10f64.powf(log_a[i]) / area).sqrt();
+        let d = shot::shot_keypoint_descriptors(partial, &keypoints, shot::DEFAULT_RADIUS_FRACTION / s, shot::DEFAULT_MIN_NEIGHBORS)?;
+        Ok(mean_nearest_distance(full_descriptors, &d))
+    })?;
+    let cost = |i: usize| costs[i].unwrap_or(f64::INFINITY);
     let la = if best > 0 && best + 1 < count {
-        let (y0, y1, y2) = (costs[best - 1], costs[best], costs[best + 1]);
+        let (y0, y1, y2) = (cost(best - 1), cost(best), cost(best + 1));
         let h = log_a[1] - log_a[0];
         let curvature = y0 - 2.0 * y1 + y2;
-        let offset = if curvature > 0.0 { 0.5 * (y0 - y2) / curvature } else { 0.0 };
+        let offset = if curvature > 0.0 && curvature.is_finite() { 0.5 * (y0 - y2) / curvature } else { 0.0 };
         log_a[best] + offset.clamp(-0.5, 0.5) * h
     } else {
         log_a[best]
     };
     let fraction = 10f64.powf(la);
     Ok((fraction, (fraction / area).sqrt()))
+}
+
+/// The index of the lowest of `count` costs found by scanning every [`COARSE_STRIDE`]-th
+/// index, then every index within `COARSE_STRIDE - 1` of each of the [`REFINED_MINIMA`]
+/// lowest local minima of that scan; the costs evaluated (`None`: skipped). The minimum found
+/// has both its neighbours evaluated, and is the lowest of all when it lies within one of
+/// those windows (always for costs that fall, then rise).
+fn coarse_to_fine_minimum(count: usize, mut cost_of: impl FnMut(usize) -> Result<f64>) -> Result<(usize, Vec<Option<f64>>)> {
+    let mut costs: Vec<Option<f64>> = vec![None; count];
+    let mut evaluate = |i: usize, costs: &mut [Option<f64>]| -> Result<f64> {
+        if costs[i].is_none() {
+            costs[i] = Some(cost_of(i)?);
+        }
+        Ok(costs[i].unwrap_or(f64::INFINITY))
+    };
+    let coarse: Vec<usize> = (0..count).step_by(COARSE_STRIDE).collect();
+    let coarse_costs = coarse.iter().map(|&i| evaluate(i, &mut costs)).collect::<Result<Vec<f64>>>()?;
+    // Local minima of the first pass; a flat stretch counts once (at its start).
+    let mut minima: Vec<usize> = (0..coarse.len())
+        .filter(|&j| (j == 0 || coarse_costs[j] < coarse_costs[j - 1]) && (j + 1 == coarse.len() || coarse_costs[j] <= coarse_costs[j + 1]))
+        .collect();
+    minima.sort_by(|&a, &b| coarse_costs[a].total_cmp(&coarse_costs[b]).then(a.cmp(&b)));
+    for &j in minima.iter().take(REFINED_MINIMA) {
+        let centre = coarse[j];
+        for i in centre.saturating_sub(COARSE_STRIDE - 1)..(centre + COARSE_STRIDE).min(count) {
+            evaluate(i, &mut costs)?;
+        }
+    }
+    let cost = |i: usize| costs[i].unwrap_or(f64::INFINITY);
+    let best = (0..count).min_by(|&a, &b| cost(a).total_cmp(&cost(b))).unwrap_or(0);
+    Ok((best, costs))
 }
 
 /// The area-fraction hypotheses, $\log_{10} a$ from $\log_{10}$ [`MIN_AREA_FRACTION`] to 0,
@@ -139,6 +172,34 @@ mod tests {
             assert!((0.85..1.18).contains(&error), "factor {factor}: fraction {fraction} vs {truth}");
             assert!((s * factor - 1.0).abs() < 0.18, "factor {factor}: s {s}");
         }
+    }
+
+    /// On costs that fall, then rise, the scan finds the lowest of all with at most 17 of 25
+    /// evaluations, wherever it lies; a narrow dip between two coarse points is found beside
+    /// a lower flat stretch elsewhere; an error is passed on.
+    #[test]
+    fn coarse_to_fine_scan_finds_a_single_minimum() {
+        for m in 0..25usize {
+            let mut evaluated = 0;
+            let (best, costs) = coarse_to_fine_minimum(25, |i| {
+                evaluated += 1;
+                Ok((i as f64 - m as f64 - 0.3).powi(2))
+            })
+            .unwrap();
+            assert_eq!(best, m);
+            assert!(evaluated <= 17, "{evaluated} evaluations");
+            assert_eq!(costs.iter().filter(|c| c.is_some()).count(), evaluated);
+            for n in [best.wrapping_sub(1), best + 1] {
+                if n < 25 {
+                    assert!(costs[n].is_some(), "neighbour {n} of {best} not scored");
+                }
+            }
+        }
+        // A flat stretch at 0.5 from 20 on, a dip to 0.4 at 17 between coarse points at 0.52
+        // and 0.55 (the shape of SHREC'16 HOLES victoria 3's costs).
+        let plateau = |i: usize| Ok(match i { 17 => 0.4, 18 | 19 => 0.55, 20.. => 0.5, _ => 1.0 - 0.03 * i as f64 });
+        assert_eq!(coarse_to_fine_minimum(25, plateau).unwrap().0, 17);
+        assert!(coarse_to_fine_minimum(25, |i| if i == 10 { Err(Error::InvalidArgument("x".into())) } else { Ok(0.0) }).is_err());
     }
 
     #[test]

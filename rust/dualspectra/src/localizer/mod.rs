@@ -159,6 +159,14 @@ impl Localizer {
         stages::start_regions(self, partial)
     }
 
+    /// The factor `partial` is multiplied by to be in the full shape's units under the
+    /// `scale` option (estimated with `auto`), without locating it: a diagnostic of the
+    /// scale estimate.
+    #[cfg_attr(not(feature = "lab"), allow(dead_code))] // used by the lab
+    pub(crate) fn partial_factor(&self, partial: &TriMesh) -> Result<f64> {
+        self.workers.install(|| stages::partial_in_full_units(self, partial)).map(|(_, factor, _)| factor)
+    }
+
     /// The options it was prepared with.
     pub fn options(&self) -> &Options {
         &self.options

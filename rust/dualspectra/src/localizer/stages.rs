@@ -348,9 +348,11 @@ fn target_on_its_mesh(loc: &Localizer, partial: &TriMesh, progress: &Progress) -
     Ok((target, level, notes))
 }
 
-/// Stage 1: the partial's largest component, scaled; its Dirichlet spectra and descriptors
-/// (their matches on the optimisation mesh are left to [`target_on_its_mesh`]).
-fn target(loc: &Localizer, partial: &TriMesh) -> Result<Target> {
+/// The partial's largest component in the units of the localizer's unit-area full shape
+/// (the `scale` option applied or estimated), decimated above [`MAX_PARTIAL_VERTICES`]; the
+/// factor the caller's partial was multiplied by (beside the full shape's own normalisation)
+/// and the notes on the way.
+pub(super) fn partial_in_full_units(loc: &Localizer, partial: &TriMesh) -> Result<(TriMesh, f64, Vec<String>)> {
     let options = &loc.options;
     let mut warnings = Vec::new();
     let (component, dropped) = largest_component(partial)?;
@@ -380,6 +382,14 @@ fn target(loc: &Localizer, partial: &TriMesh) -> Result<Target> {
     } else {
         given_factor
     };
+    Ok((scaled, factor, warnings))
+}
+
+/// Stage 1: the partial's largest component, scaled; its Dirichlet spectra and descriptors
+/// (their matches on the optimisation mesh are left to [`target_on_its_mesh`]).
+fn target(loc: &Localizer, partial: &TriMesh) -> Result<Target> {
+    let options = &loc.options;
+    let (scaled, factor, mut warnings) = partial_in_full_units(loc, partial)?;
     let area = scaled.area();
     let hint = match options.scale {
         Scale::Same => " (if the partial is in other units, use scale = auto or give the factor)",
