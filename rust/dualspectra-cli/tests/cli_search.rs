@@ -138,6 +138,19 @@ fn prepared_shapes_rank_and_score_as_their_meshes() {
         assert_eq!(a["score"], b["score"], "bit-identical scores from a prepared shape");
         assert_eq!(a["region"], b["region"]);
     }
+    // The search's --scale applies to prepared shapes (prepared with the default `same`): a
+    // partial in other units is localized on them, not refused as larger than the model.
+    let partial = dualspectra::mesh::io::read_mesh(&d.join("partial.off")).unwrap();
+    let in_mm = tmp("units").join("partial_mm.off");
+    std::fs::create_dir_all(in_mm.parent().unwrap()).unwrap();
+    write_off(&in_mm, &partial.map_positions(|p| p.map(|c| c * 1000.0)).unwrap()).unwrap();
+    let json_auto = in_mm.with_file_name("ranking.json");
+    run(bin().args(["search", "--quiet", "--scale", "auto"]).arg(&in_mm).arg(&prep).arg("--json").arg(&json_auto));
+    let v = read_json(&json_auto);
+    assert_eq!(names(&v)[0], "figure.dsprep", "{v}");
+    for r in v["ranking"].as_array().unwrap() {
+        assert!(r["error"].is_null() && r["score"].as_f64().is_some(), "{r}");
+    }
     // A default output name beside the mesh.
     let copy = prep.join("copy.off");
     std::fs::copy(d.join("library/horned.off"), &copy).unwrap();

@@ -5,7 +5,7 @@
 use dualspectra::evaluation::synthetic::{synthetic_pair, SyntheticPair, SyntheticParams};
 use dualspectra::lab::persist::{crc32, FORMAT_VERSION, MAGIC};
 use dualspectra::localizer::HostNumbering;
-use dualspectra::{Error, Localization, Localizer, Options, Progress};
+use dualspectra::{Error, Localization, Localizer, Options, Progress, Scale};
 use std::path::PathBuf;
 use std::sync::OnceLock;
 
@@ -126,6 +126,11 @@ fn save_load_save_gives_the_same_bytes() {
     loaded.set_threads(1).unwrap();
     assert_eq!(loaded.options().threads, 1);
     assert!(loaded.set_threads(100_000).is_err());
+    // The partial's units are not part of what was prepared: they can change after loading.
+    loaded.set_scale(Scale::Auto).unwrap();
+    assert_eq!(loaded.options().scale, Scale::Auto);
+    assert!(loaded.set_scale(Scale::Factor(-1.0)).is_err());
+    assert_eq!(loaded.options().scale, Scale::Auto, "a refused scale leaves the option as it was");
 }
 
 #[test]

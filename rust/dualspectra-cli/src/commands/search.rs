@@ -6,8 +6,8 @@
 //! (`Localization::similarity_score`, lower is more similar; docs/algorithm.md,
 //! "Searching several full shapes"). A FULL may be a mesh (.off, .obj, .ply: prepared
 //! here with the options given), a prepared shape (.dsprep from `dualspectra prepare`:
-//! loaded, with the options it was prepared with), or a folder of these (its files, not
-//! its subfolders, by name). Prints a table (rank, shape, score, region size, confidence)
+//! loaded, with the options it was prepared with except `--scale` and `--threads`, which are
+//! the search's), or a folder of these (its files, not its subfolders, by name). Prints a table (rank, shape, score, region size, confidence)
 //! of the `--top N` best (default: all); `--json` writes them with each region (0-based
 //! vertex indices of that FULL file), `--ply-dir` each one's FULL with its region in red
 //! (`<rank>_<name>.ply`), `--png` a picture of the ranking: the best shapes (at most
@@ -133,6 +133,8 @@ fn open_full(path: &Path, options: &Options, threads: Option<usize>, drop_isolat
         if let Some(t) = threads {
             localizer.set_threads(t)?;
         }
+        // The partial's units are the search's, as the screen takes them.
+        localizer.set_scale(options.scale)?;
         return Ok(localizer);
     }
     Ok(prepare_file(path, options, drop_isolated, progress)?.0)

@@ -199,6 +199,17 @@ impl Localizer {
         self.preparation_seconds
     }
 
+    /// Take partials in `scale`'s units from now on (the `scale` option is about the partial,
+    /// not part of what was prepared), e.g. a library prepared once and searched with partials
+    /// in other units.
+    pub fn set_scale(&mut self, scale: Scale) -> Result<()> {
+        let mut options = self.options.clone();
+        options.scale = scale;
+        options.validate()?;
+        self.options = options;
+        Ok(())
+    }
+
     /// Run on `threads` worker threads from now on (0: all cores), e.g. a shape prepared on
     /// another machine (the thread count is not part of what was prepared).
     pub fn set_threads(&mut self, threads: usize) -> Result<()> {
