@@ -7,14 +7,15 @@
 //! "Searching several full shapes"). A FULL may be a mesh (.off, .obj, .ply: prepared
 //! here with the options given), a prepared shape (.dsprep from `dualspectra prepare`:
 //! loaded, with the options it was prepared with except `--scale` and `--threads`, which are
-//! the search's), or a folder of these (its files, not its subfolders, by name). Prints a table (rank, shape, score, region size, confidence)
-//! of the `--top N` best (default: all); `--json` writes them with each region (0-based
-//! vertex indices of that FULL file), `--ply-dir` each one's FULL with its region in red
-//! (`<rank>_<name>.ply`), `--png` a picture of the ranking: the best shapes (at most
-//! [`PICTURE_SHAPES`]), each from the front and the back with its region, labelled with rank,
-//! name and score; the ranking rather than the best shape alone, so that the picture shows
-//! whether the best stands out and where the part would sit on the runners-up. A progress
-//! bar runs over the shapes on standard error.
+//! the search's), or a folder of these (its files, not its subfolders, by name). Prints a
+//! table (rank, shape, score, region size, confidence) of the `--top N` best (default:
+//! all); `--json` writes them with each region (0-based vertex indices of that FULL file),
+//! `--ply-dir` each one's FULL with its region in red (`<rank>_<name>.ply`), `--png` a
+//! picture of the ranking: the best shapes (at most [`PICTURE_SHAPES`]), each from the
+//! front and the back with its region, labelled with rank, name and score; the ranking
+//! rather than the best shape alone, so that the picture shows whether the best stands out
+//! and where the part would sit on the runners-up. A progress bar runs over the shapes on
+//! standard error.
 //!
 //! Shapes are opened (loaded or prepared) one at a time during the search and dropped after,
 //! so memory holds one prepared shape plus the kept localizations; the ranked shapes are
