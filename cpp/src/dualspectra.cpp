@@ -302,6 +302,7 @@ std::vector<Match> search(const Mesh& partial, const std::vector<const Localizer
     if (d.located) m.localization = to_localization(d.localization);
     m.error = std::string(d.error);
     m.screen_score = d.screen_score;
+    m.quick = d.quick;
     out.push_back(std::move(m));
   }
   return out;

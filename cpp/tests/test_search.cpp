@@ -163,6 +163,19 @@ int main() {
            screened[i].screen_score >= screened[0].screen_score;
   t.check(rest, "shortlist 1: the others screened out, with a screen score no better than the first's");
   t.check(std::isnan(ranked[0].screen_score), "an unscreened search has no screen score");
+  t.check(!screened[0].quick, "shortlist 1: localized in full");
+  // A shortlist of 3 of 4 shapes (the part's own shape twice) is localized quickly, and the
+  // two best of those again in full, ranked first.
+  const std::vector<const dualspectra::Localizer*> four{&library[0], &library[1], &library[2], &library[1]};
+  const auto two_stage = dualspectra::search(partial, four, 10, {}, 3);
+  std::size_t in_full = 0, quick = 0;
+  bool full_first = true;
+  for (const auto& m : two_stage) {
+    if (!m.located) continue;
+    if (m.quick) ++quick; else { ++in_full; full_first = full_first && quick == 0; }
+  }
+  t.check(two_stage.size() == 4 && in_full == 2 && quick == 1 && full_first && two_stage[0].localization.region == best.region,
+          "shortlist 3 of 4: one quick localization, the best two in full and first");
   expect([&] { dualspectra::search(partial, library, 10, {}, 0); }, dualspectra::Status::InvalidArgument,
          "shortlist is 0", "shortlist = 0: InvalidArgument");
 

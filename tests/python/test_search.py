@@ -223,5 +223,20 @@ def test_a_screened_search_localizes_only_the_shortlist(library: List[Mesh], par
     full = ds.search(partials[0], library, **LIGHT)
     assert full[0].index == 1 and full[0].screen_score is None
     np.testing.assert_array_equal(full[0].localization.region, found[0].localization.region)
+    assert not found[0].quick and not full[0].quick
     with pytest.raises(ValueError, match="shortlist"):
         ds.search(partials[0], library, shortlist=0, **LIGHT)
+
+
+def test_a_shortlist_is_localized_quickly_and_its_best_two_again_in_full(
+    library: List[Mesh], partials: List[Mesh]
+) -> None:
+    """Four shapes (the partial's own figure twice), shortlist 3: one quick localization, the
+    two best in full, ranked first, the full ones as ``Localizer.locate`` finds them."""
+    four = [library[0], library[1], library[2], library[1]]
+    found = ds.search(partials[0], four, shortlist=3, **LIGHT)
+    kinds = [(m.localization is not None, m.quick) for m in found]
+    assert kinds == [(True, False), (True, False), (True, True), (False, False)]
+    direct = ds.Localizer(*four[found[0].index], **LIGHT).locate(*partials[0])
+    np.testing.assert_array_equal(found[0].localization.region, direct.region)
+    assert found[0].score == direct.similarity_score

@@ -573,7 +573,8 @@ ds_status ds_search(const struct ds_localizer *const *localizers, size_t n_local
 
 // `ds_search` after a screen: with `shortlist` below `n_localizers`, every shape is ranked
 // by a screen of its SHOT descriptors (with the first localizer's `scale` option) and the
-// partial is located on the `shortlist` best only; the others follow in screen order, not
+// partial is located on the `shortlist` best only, quickly (`ds_search_result_quick`), and
+// again in full on the best few of those; the others follow in screen order, not
 // located and without an error (`ds_search_result_result` NULL, `ds_search_result_error`
 // NULL), each with its `ds_search_result_screen_score`. `shortlist >= n_localizers` is
 // `ds_search`. Errors as `ds_search`, and `DS_INVALID_ARGUMENT` for `shortlist == 0`.
@@ -617,6 +618,14 @@ ds_status ds_search_result_score(const struct ds_search_result *search, size_t r
 // # Safety
 // `search` any pointer (a handle argument, checked); `out` valid for one write.
 ds_status ds_search_result_screen_score(const struct ds_search_result *search, size_t rank, double *out);
+
+// Whether the localization at `rank` is the screened search's quick one (fewer starts and
+// iterations, ranking the shortlist) rather than a full one: `ds_search_screened` localizes
+// its shortlist quickly and the best few of those again in full.
+//
+// # Safety
+// `search` any pointer (a handle argument, checked); `out` valid for one write.
+ds_status ds_search_result_quick(const struct ds_search_result *search, size_t rank, bool *out);
 
 // The localization on the shape at `rank`, *borrowed* from the ranking: read it with every
 // `ds_result_*` getter (its per-vertex arrays are in the numbering of that shape's full

@@ -254,6 +254,10 @@ struct Match {
   // The screen's score (lower is more similar) when search() screened the shapes (a shortlist
   // below their number); NaN otherwise. A shape screened out is not located, with no error.
   double screen_score = std::numeric_limits<double>::quiet_NaN();
+  // Whether `localization` is the screened search's quick one (fewer starts and iterations,
+  // ranking the shortlist) rather than a full one; the best few of the shortlist are
+  // localized again in full.
+  bool quick = false;
 };
 
 // Which of the prepared full shapes is `partial` a part of, and where: the partial is located
@@ -263,8 +267,9 @@ struct Match {
 // Error(Status::InvalidArgument); a null pointer among the localizers too. Progress runs over
 // the shapes. With `shortlist` below the number of shapes, a screen (a few SHOT descriptors
 // per shape, with the first localizer's scale option) ranks them first and the partial is
-// located on the `shortlist` best only; the others follow in screen order, not located
-// (Match::screen_score). shortlist == 0 throws Error(Status::InvalidArgument).
+// located on the `shortlist` best only, quickly (Match::quick), and again in full on the best
+// few of those; the others follow in screen order, not located (Match::screen_score).
+// shortlist == 0 throws Error(Status::InvalidArgument).
 std::vector<Match> search(const Mesh& partial, const std::vector<const Localizer*>& localizers,
                           std::size_t top = std::numeric_limits<std::size_t>::max(),
                           const ProgressCallback& progress = {},

@@ -230,3 +230,27 @@ fn an_indexed_library_is_screened_and_only_the_shortlist_localized() {
     assert!(!damaged.status.success());
     assert!(String::from_utf8_lossy(&damaged.stderr).contains("bad.dsscreen"), "{}", String::from_utf8_lossy(&damaged.stderr));
 }
+
+/// A shortlist of 3 of 4 shapes (the partial's own figure twice) is localized quickly and
+/// the best two again in full: the table marks the quick one, the JSON says which is which.
+#[test]
+fn a_shortlist_is_localized_quickly_and_its_best_two_in_full() {
+    let d = library();
+    let json = tmp("two-stage").join("ranking.json");
+    let lib = d.join("library");
+    let out = run(bin()
+        .args(["search", "--quiet", "--shortlist", "3"])
+        .arg(d.join("partial.off"))
+        .args([lib.join("figure.off"), lib.join("quadruped.off"), lib.join("horned.off"), lib.join("figure.off")])
+        .args(LIGHT)
+        .arg("--json")
+        .arg(&json));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("4 shapes screened, the 3 best localized quickly and the 2 best of those in full"), "{stdout}");
+    assert_eq!(stdout.matches("(quick)").count(), 1, "{stdout}");
+    let ranking = read_json(&json)["ranking"].clone();
+    let quick: Vec<bool> = (0..4).map(|i| ranking[i]["quick"].as_bool().unwrap()).collect();
+    assert_eq!(quick, [false, false, true, false], "{ranking}");
+    assert!(ranking[0]["shape"].as_str().unwrap().ends_with("figure.off") && ranking[1]["shape"].as_str().unwrap().ends_with("figure.off"));
+    assert!(ranking[3]["score"].is_null() && ranking[3]["screen_score"].is_number());
+}

@@ -161,6 +161,8 @@ pub(crate) struct SearchMatch {
     error: Option<CString>,
     /// The screen's score (NaN when the search was not screened).
     screen_score: f64,
+    /// Whether the localization is the screened search's quick one rather than a full one.
+    quick: bool,
 }
 
 /// Wall-clock seconds per stage.
@@ -1532,7 +1534,8 @@ pub unsafe extern "C" fn ds_search(
 
 /// `ds_search` after a screen: with `shortlist` below `n_localizers`, every shape is ranked
 /// by a screen of its SHOT descriptors (with the first localizer's `scale` option) and the
-/// partial is located on the `shortlist` best only; the others follow in screen order, not
+/// partial is located on the `shortlist` best only, quickly (`ds_search_result_quick`), and
+/// again in full on the best few of those; the others follow in screen order, not
 /// located and without an error (`ds_search_result_result` NULL, `ds_search_result_error`
 /// NULL), each with its `ds_search_result_screen_score`. `shortlist >= n_localizers` is
 /// `ds_search`. Errors as `ds_search`, and `DS_INVALID_ARGUMENT` for `shortlist == 0`.
@@ -1572,6 +1575,7 @@ pub unsafe extern "C" fn ds_search_screened(
                     result: m.localization.map(|loc| Box::new(result_handle(loc))),
                     error: m.error.as_deref().map(c_string),
                     screen_score: m.screen_score.unwrap_or(f64::NAN),
+                    quick: m.quick,
                 })
                 .collect();
             Ok(ds_search_result { matches })
@@ -1636,6 +1640,17 @@ pub unsafe extern "C" fn ds_search_result_score(search: *const ds_search_result,
 #[no_mangle]
 pub unsafe extern "C" fn ds_search_result_screen_score(search: *const ds_search_result, rank: usize, out: *mut f64) -> ds_status {
     guard(|| unsafe { write_out(out, ranked(handle(search, "search")?, rank)?.screen_score, "out") })
+}
+
+/// Whether the localization at `rank` is the screened search's quick one (fewer starts and
+/// iterations, ranking the shortlist) rather than a full one: `ds_search_screened` localizes
+/// its shortlist quickly and the best few of those again in full.
+///
+/// # Safety
+/// `search` any pointer (a handle argument, checked); `out` valid for one write.
+#[no_mangle]
+pub unsafe extern "C" fn ds_search_result_quick(search: *const ds_search_result, rank: usize, out: *mut bool) -> ds_status {
+    guard(|| unsafe { write_out(out, ranked(handle(search, "search")?, rank)?.quick, "out") })
 }
 
 /// The localization on the shape at `rank`, *borrowed* from the ranking: read it with every

@@ -92,6 +92,7 @@ pub mod ffi {
         localization: LocalizationData,
         error: String,
         screen_score: f64,
+        quick: bool,
     }
 
     /// A sparse `n x n` matrix as coordinate triplets (`rows[i], cols[i], values[i]`).
@@ -394,6 +395,7 @@ fn search(
                 localization: m.localization.map(localization_data).unwrap_or_default(),
                 error: m.error.unwrap_or_default(),
                 screen_score: m.screen_score.unwrap_or(f64::NAN),
+                quick: m.quick,
             })
             .collect())
     })

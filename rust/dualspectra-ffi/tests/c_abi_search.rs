@@ -383,6 +383,24 @@ fn a_screened_search_locates_the_shortlist_only() {
     }
     let direct = locate(lib.localizers[RIGHT], lib.partial);
     assert_eq!(region(unsafe { ds_search_result_result(out, 0) }), region(direct));
+    let quick = |search: *const ds_search_result, rank: usize| {
+        let mut q = true;
+        assert_eq!(unsafe { ds_search_result_quick(search, rank, &mut q) }, DS_OK, "{}", last_error());
+        q
+    };
+    assert!(!quick(out, 0), "a shortlist of one is localized in full");
+    unsafe { ds_search_result_destroy(out) };
+    // A shortlist of 3 of the 4 shapes: localized quickly, the best two again in full, first.
+    let all: Vec<*const ds_localizer> = lib.localizers.iter().map(|&l| l as *const _).collect();
+    let s = unsafe { ds_search_screened(all.as_ptr(), all.len(), lib.partial, 3, usize::MAX, None, ptr::null_mut(), &mut out) };
+    assert_eq!(s, DS_OK, "{}", last_error());
+    let located: Vec<usize> = (0..all.len()).filter(|&r| !unsafe { ds_search_result_result(out, r) }.is_null()).collect();
+    let kinds: Vec<bool> = located.iter().map(|&r| quick(out, r)).collect();
+    assert_eq!(ranking(out)[0].0, RIGHT);
+    assert_eq!(region(unsafe { ds_search_result_result(out, 0) }), region(direct));
+    assert!(kinds.iter().filter(|&&q| !q).count() <= 2 && kinds.windows(2).all(|w| w[0] <= w[1]), "{kinds:?}");
+    let mut q = false;
+    assert_eq!(unsafe { ds_search_result_quick(out, all.len(), &mut q) }, DS_INVALID_ARGUMENT, "a rank past the end");
     unsafe {
         ds_result_destroy(direct);
         ds_search_result_destroy(out);

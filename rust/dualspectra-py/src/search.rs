@@ -33,6 +33,10 @@ pub struct Match {
     error: Option<String>,
     #[pyo3(get)]
     screen_score: Option<f64>,
+    /// Whether `localization` is a screened search's quick one (fewer starts and iterations,
+    /// ranking the shortlist) rather than a full localization.
+    #[pyo3(get)]
+    quick: bool,
 }
 
 #[pymethods]
@@ -193,7 +197,7 @@ pub fn search(
             let full = &shapes[m.index];
             let localization =
                 m.localization.map(|l| full.localization(py, l, &partial).and_then(|l| Py::new(py, l))).transpose()?;
-            Ok(Match { index: m.index, score: m.score, localization, error: m.error, screen_score: m.screen_score })
+            Ok(Match { index: m.index, score: m.score, localization, error: m.error, screen_score: m.screen_score, quick: m.quick })
         })
         .collect::<PyResult<Vec<_>>>()?;
     let notes = shapes

@@ -1,12 +1,13 @@
 //! Laws of the search over several full shapes (`search.rs`) on a small generated library:
 //! the model the partial was cut from ranks first, ties go to the lower index, a shape the
-//! partial cannot be on ranks last, the search can be cancelled, and `search_with` (shapes
-//! opened one at a time) answers as `search`.
+//! partial cannot be on ranks last, the search can be cancelled, `search_with` (shapes
+//! opened one at a time) answers as `search`, and a screened search localizes its shortlist
+//! quickly and its best few in full.
 
 use dualspectra::evaluation::synthetic::{figure, horned_limbs, quadruped_limbs, synthetic_pair, SyntheticPair, SyntheticParams};
 use dualspectra::lab::selection::similarity_score;
 use dualspectra::search::rank;
-use dualspectra::{search, search_with, Error, Localizer, Match, Options, Progress, TriMesh};
+use dualspectra::{search, search_screened, search_with, Error, Localizer, Match, Options, Progress, Scale, Screen, ScreenEntry, TriMesh};
 use std::borrow::Borrow;
 use std::cell::Cell;
 use std::sync::OnceLock;
@@ -173,4 +174,48 @@ fn a_localization_keeps_an_infinite_similarity_through_json() {
     assert!(text.contains("\"similarity_score\":null"), "{text}");
     let back: dualspectra::Localization = serde_json::from_str(&text).unwrap();
     assert_eq!(back.similarity_score, f64::INFINITY);
+}
+
+/// A screened search with a shortlist below the library's size localizes its shortlist
+/// quickly and the two best of those again in full: the full ones are exactly
+/// `Localizer::locate`'s answers, the quick one is exactly a localization with 2 plane cuts
+/// and at most 10 iterations, and the shape the screen leaves out follows, not located.
+#[test]
+fn a_screened_search_localizes_its_shortlist_quickly_and_the_best_again_in_full() {
+    let lib = library();
+    // Four shapes, the partial's own figure twice: the screen keeps 3, 2 are refined.
+    let shapes: Vec<&Localizer> = vec![&lib[0], &lib[1], &lib[2], &lib[1]];
+    let [a, b] = <[TriMesh; 2]>::try_from(others()).unwrap();
+    let meshes = [&a, &pair().full, &b, &pair().full];
+    let entries = meshes.iter().map(|m| ScreenEntry::new(m)).collect::<Result<Vec<_>, _>>().unwrap();
+    let screen = Screen::new(&entries).unwrap();
+    let mut opened = Vec::new();
+    let open = |i: usize, _: &Progress| {
+        opened.push(i);
+        Ok::<_, Error>(shapes[i])
+    };
+    let found = search_screened(&pair().partial, &screen, Scale::Same, 3, open, usize::MAX, &Progress::none()).unwrap();
+    assert_eq!(found.len(), 4);
+    let kinds: Vec<(bool, bool)> = found.iter().map(|m| (m.localization.is_some(), m.quick)).collect();
+    assert_eq!(kinds, [(true, false), (true, false), (true, true), (false, false)], "two in full, one quick, one screened out");
+    assert_eq!(opened.len(), 3 + 2, "the shortlist opened once each, the two best again");
+    assert!(found[0].score <= found[1].score);
+    for m in &found[..2] {
+        let direct = shapes[m.index].locate(&pair().partial, &Progress::none()).unwrap();
+        let loc = m.localization.as_ref().unwrap();
+        assert_eq!((loc.region.clone(), m.score.to_bits()), (direct.region, direct.similarity_score.to_bits()));
+    }
+    let quick = &found[2];
+    let quick_options = Options { plane_cuts: 2, max_iterations: light().max_iterations.min(10), ..light() };
+    let prepared = Localizer::new(meshes[quick.index], &quick_options).unwrap();
+    let direct = prepared.locate(&pair().partial, &Progress::none()).unwrap();
+    let loc = quick.localization.as_ref().unwrap();
+    assert_eq!((loc.region.clone(), quick.score.to_bits()), (direct.region, direct.similarity_score.to_bits()));
+    let full = shapes[quick.index].locate(&pair().partial, &Progress::none()).unwrap();
+    assert!(loc.candidates.len() < full.candidates.len(), "fewer starts: {} against {}", loc.candidates.len(), full.candidates.len());
+    let out = &found[3];
+    assert!(out.error.is_none() && out.score == f64::INFINITY && out.screen_score >= found[0].screen_score);
+    // A shortlist of the whole library localizes every shape in full.
+    let every = search_screened(&pair().partial, &screen, Scale::Same, 4, |i, _| Ok::<_, Error>(shapes[i]), usize::MAX, &Progress::none()).unwrap();
+    assert!(every.iter().all(|m| m.localization.is_some() && !m.quick));
 }

@@ -193,6 +193,9 @@ struct Ranked<'a> {
     error: Option<&'a str>,
     /// The screen's score (lower is more similar) when the search was screened.
     screen_score: Option<f64>,
+    /// Whether the localization is the screened search's quick one (ranking the shortlist)
+    /// rather than a full one.
+    quick: bool,
     warnings: &'a [String],
 }
 
@@ -316,6 +319,7 @@ pub fn run(args: Args) -> Result<(), CliError> {
             region,
             error: m.error.as_deref(),
             screen_score: m.screen_score,
+            quick: m.quick,
             warnings: loc.map_or(&[], |l| l.warnings.as_slice()),
         });
     }
@@ -325,9 +329,10 @@ pub fn run(args: Args) -> Result<(), CliError> {
         let name = &shapes[m.index].name;
         match (r.score, r.confidence) {
             (Some(score), Some(confidence)) => table.push_str(&format!(
-                "{:>4}  {name:<name_width$}  {score:>10.4e}  {:>16}  {confidence:>10.2}\n",
+                "{:>4}  {name:<name_width$}  {score:>10.4e}  {:>16}  {confidence:>10.2}{}\n",
                 r.rank,
-                format!("{}/{}", r.region_vertices, r.n_vertices)
+                format!("{}/{}", r.region_vertices, r.n_vertices),
+                if r.quick { "  (quick)" } else { "" }
             )),
             _ => match (r.error, m.screen_score) {
                 (None, Some(screen)) => table.push_str(&format!("{:>4}  {name:<name_width$}  screened out (screen score {screen:.4})\n", r.rank)),
@@ -363,7 +368,14 @@ pub fn run(args: Args) -> Result<(), CliError> {
             pictured.len()
         ));
     }
-    if screened {
+    let in_full = found.iter().filter(|m| m.localization.is_some() && !m.quick).count();
+    if screened && found.iter().any(|m| m.quick) {
+        table.push_str(&format!(
+            "{} shapes screened, the {} best localized quickly and the {in_full} best of those in full, in {seconds:.2} s\n",
+            paths.len(),
+            args.shortlist.min(paths.len())
+        ));
+    } else if screened {
         table.push_str(&format!("{} shapes screened, the {} best localized, in {seconds:.2} s\n", paths.len(), args.shortlist));
     } else {
         table.push_str(&format!("{} shapes searched in {seconds:.2} s\n", paths.len()));

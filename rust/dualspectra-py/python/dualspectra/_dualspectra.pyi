@@ -207,6 +207,11 @@ class Match:
         """The screen's score of this shape (lower is more similar) when the search was
         screened (``shortlist`` or ``screen``); a shape screened out has no localization and
         no error."""
+    @property
+    def quick(self) -> bool:
+        """Whether ``localization`` is a screened search's quick one (fewer starts and
+        iterations, ranking the shortlist) rather than a full localization: the best two of
+        the shortlist are localized again in full and ranked first."""
 
 @final
 class Screen:

@@ -23,6 +23,7 @@ pub use crate::mesh::intake::HostNumbering;
 pub use persist::EXTENSION;
 pub use options::{option_spec, options_schema_json, Mode, OptionKind, OptionSpec, Options, Scale, MIN_RESOLUTION, OPTIONS, REMOVED_OPTIONS};
 pub use result::{Candidate, CandidateScore, Localization, Timings};
+pub(crate) use stages::Effort;
 
 use crate::error::{Error, Result};
 use crate::mesh::TriMesh;
@@ -147,7 +148,13 @@ impl Localizer {
                 )));
             }
         }
-        stages::locate(self, partial, initial_regions, progress)
+        stages::locate(self, partial, initial_regions, Effort::of(&self.options), progress)
+    }
+
+    /// [`Localizer::locate`] with at most `effort`'s iterations and plane-cut starts: the
+    /// quick localizations that rank a search's shortlist.
+    pub(crate) fn locate_with_effort(&self, partial: &TriMesh, effort: Effort, progress: &Progress) -> Result<Localization> {
+        stages::locate(self, partial, &[], effort, progress)
     }
 
     /// The regions the optimisation starts from for `partial` (each start's partial-area

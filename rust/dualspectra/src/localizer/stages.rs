@@ -284,19 +284,40 @@ struct Scored {
     score: CandidateScore,
 }
 
-/// The stages for one partial.
-pub(super) fn locate(loc: &Localizer, partial: &TriMesh, initial_regions: &[Vec<bool>], progress: &Progress) -> Result<Localization> {
+/// How much of the optimisation a localization runs: trust-region iterations per start and
+/// plane-cut starts (each at most the localizer's options; [`Effort::of`] is all of them).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Effort {
+    pub max_iterations: usize,
+    pub plane_cuts: usize,
+}
+
+impl Effort {
+    /// What `options` ask for.
+    pub(crate) fn of(options: &crate::localizer::Options) -> Effort {
+        Effort { max_iterations: options.max_iterations, plane_cuts: options.plane_cuts }
+    }
+
+    /// The smaller of each.
+    pub(crate) fn min(self, other: Effort) -> Effort {
+        Effort { max_iterations: self.max_iterations.min(other.max_iterations), plane_cuts: self.plane_cuts.min(other.plane_cuts) }
+    }
+}
+
+/// The stages for one partial, with `effort` (at most the localizer's options).
+pub(super) fn locate(loc: &Localizer, partial: &TriMesh, initial_regions: &[Vec<bool>], effort: Effort, progress: &Progress) -> Result<Localization> {
+    let effort = effort.min(Effort::of(&loc.options));
     let clock = Clock::start();
     progress.report(0.0, "preprocessing")?;
     let (target, level, level_notes) = target_on_its_mesh(loc, partial, progress)?;
     let t_pre = clock.lap();
     progress.report(0.05, "starts")?;
-    let starts = starts_for(&level, &target, initial_regions);
+    let starts = starts_for(&level, &target, initial_regions, effort.plane_cuts);
     if starts.is_empty() {
         return Err(Error::InvalidArgument("no starts (plane_cuts = 0, no initial region, and no descriptor start)".into()));
     }
     let t_starts = clock.lap();
-    let (runs, failure) = optimise(loc, &level, &target, &starts, &progress.sub(0.05, 0.9))?;
+    let (runs, failure) = optimise(loc, &level, &target, &starts, effort.max_iterations, &progress.sub(0.05, 0.9))?;
     let t_opt = clock.lap();
     progress.report(0.9, "regions")?;
     let candidates = regions(loc, &level, &target, runs)?;
@@ -329,7 +350,7 @@ pub(super) fn locate(loc: &Localizer, partial: &TriMesh, initial_regions: &[Vec<
 #[cfg_attr(not(feature = "lab"), allow(dead_code))] // used by the lab and the tests
 pub(super) fn start_regions(loc: &Localizer, partial: &TriMesh) -> Result<Vec<(String, Vec<bool>)>> {
     let (target, level, _) = target_on_its_mesh(loc, partial, &Progress::none())?;
-    starts_for(&level, &target, &[])
+    starts_for(&level, &target, &[], loc.options.plane_cuts)
         .into_iter()
         .map(|s| {
             let low: Vec<f64> = s.w0.iter().map(|w| -w).collect();
@@ -436,10 +457,10 @@ fn target(loc: &Localizer, partial: &TriMesh) -> Result<Target> {
     Ok(Target { shape, area, factor, terms, spectra, descriptors, matches: None, has_holes, warnings })
 }
 
-/// Stage 2: the starts. Given regions first, then the plane cuts (not for a partial with
-/// holes), then the two descriptor starts (the regions whose SHOT descriptors the partial's
-/// resemble).
-fn starts_for(level: &OptimisationMesh, target: &Target, initial_regions: &[Vec<bool>]) -> Vec<Start> {
+/// Stage 2: the starts. Given regions first, then the first `plane_cuts` plane cuts (not for
+/// a partial with holes), then the two descriptor starts (the regions whose SHOT descriptors
+/// the partial's resemble).
+fn starts_for(level: &OptimisationMesh, target: &Target, initial_regions: &[Vec<bool>], plane_cuts: usize) -> Vec<Start> {
     let mass = level.coarse.mass();
     let mut out: Vec<Start> = initial_regions
         .iter()
@@ -457,18 +478,18 @@ fn starts_for(level: &OptimisationMesh, target: &Target, initial_regions: &[Vec<
     // (docs/benchmarks/options.md, "Starts for each kind of partial"); they stay when there
     // is no descriptor start.
     if !target.has_holes || descriptor_starts.is_empty() {
-        out.extend(starts::plane_cut_starts_from_heights(&level.plane_heights, mass, target.area));
+        let heights = &level.plane_heights[..plane_cuts.min(level.plane_heights.len())];
+        out.extend(starts::plane_cut_starts_from_heights(heights, mass, target.area));
     }
     out.extend(descriptor_starts);
     out
 }
 
-/// Stage 3: every start optimised (in parallel on the localizer's pool, progress reported
-/// from this thread). A start that fails numerically is dropped with a warning; all failing
-/// is an error.
-fn optimise(loc: &Localizer, level: &OptimisationMesh, target: &Target, starts: &[Start], progress: &Progress) -> Result<(Vec<Run>, Option<String>)> {
+/// Stage 3: every start optimised for `iterations` iterations (in parallel on the
+/// localizer's pool, progress reported from this thread). A start that fails numerically is
+/// dropped with a warning; all failing is an error.
+fn optimise(loc: &Localizer, level: &OptimisationMesh, target: &Target, starts: &[Start], iterations: usize, progress: &Progress) -> Result<(Vec<Run>, Option<String>)> {
     use rayon::prelude::*;
-    let iterations = loc.options.max_iterations;
     let done = AtomicUsize::new(0);
     let total = (starts.len() * iterations).max(1);
     let workers_progress = Progress::none().with_cancel_flag(progress.cancel_flag());

@@ -13,7 +13,7 @@ mod screen;
 pub use screen::{Screen, ScreenEntry, SCREEN_EXTENSION};
 
 use crate::error::{Error, Result};
-use crate::localizer::{Localization, Localizer};
+use crate::localizer::{Effort, Localization, Localizer};
 use crate::mesh::TriMesh;
 use crate::progress::Progress;
 use serde::{Deserialize, Serialize};
@@ -37,6 +37,11 @@ pub struct Match {
     /// and no error.
     #[serde(default)]
     pub screen_score: Option<f64>,
+    /// Whether `localization` is a screened search's quick one (fewer starts and iterations,
+    /// ranking the shortlist) rather than a full localization with the localizer's options
+    /// ([`search_screened`]).
+    #[serde(default)]
+    pub quick: bool,
 }
 
 /// Locate `partial` on every shape of `fulls` and rank them: the `top` best [`Match`]es
@@ -56,7 +61,7 @@ pub fn search(partial: &TriMesh, fulls: &[&Localizer], top: usize, progress: &Pr
 pub fn search_with<L, E>(
     partial: &TriMesh,
     n: usize,
-    mut open: impl FnMut(usize, &Progress) -> std::result::Result<L, E>,
+    open: impl FnMut(usize, &Progress) -> std::result::Result<L, E>,
     top: usize,
     progress: &Progress,
 ) -> std::result::Result<Vec<Match>, E>
@@ -64,22 +69,67 @@ where
     L: Borrow<Localizer>,
     E: From<Error>,
 {
+    let indices: Vec<usize> = (0..n).collect();
+    let (kept, first_error) = locate_each(partial, &indices, open, None, top, progress)?;
+    every_shape_failed(&kept, first_error)?;
+    progress.report(1.0, "searched")?;
+    Ok(kept)
+}
+
+/// Shortlisted shapes localized in full after the quick ranking of the shortlist: those the
+/// quick localizations rank best (docs/benchmarks/options.md, "Two-stage search").
+pub(crate) const REFINED_SHAPES: usize = 2;
+
+/// The quick localizations that rank a shortlist: fewer trust-region iterations and
+/// plane-cut starts than a localization's defaults (docs/benchmarks/options.md, "Two-stage
+/// search").
+pub(crate) const RANKING_EFFORT: Effort = Effort { max_iterations: 10, plane_cuts: 2 };
+
+/// Time of a quick ranking localization over a full one, for splitting progress.
+const RANKING_COST: f64 = 0.4;
+
+/// Locate `partial` on the shapes `indices` (each opened by `open(index, progress)` just
+/// before and dropped right after), with `effort` (`None`: the localizer's options; a quick
+/// localization's [`Match::quick`] is set): the `top` best [`Match`]es in ranking order, and
+/// the first error of a shape the partial could not be located on.
+fn locate_each<L, E>(
+    partial: &TriMesh,
+    indices: &[usize],
+    mut open: impl FnMut(usize, &Progress) -> std::result::Result<L, E>,
+    effort: Option<Effort>,
+    top: usize,
+    progress: &Progress,
+) -> std::result::Result<(Vec<Match>, Option<Error>), E>
+where
+    L: Borrow<Localizer>,
+    E: From<Error>,
+{
+    let n = indices.len();
     let mut kept: Vec<Match> = Vec::new();
     let mut first_error = None;
-    let mut failures = 0;
-    for index in 0..n {
-        let part = progress.sub(index as f64 / n as f64, (index + 1) as f64 / n as f64);
+    for (position, &index) in indices.iter().enumerate() {
+        let part = progress.sub(position as f64 / n as f64, (position + 1) as f64 / n as f64);
         part.report(0.0, "searching")?;
         let located = {
             let shape = open(index, &part.sub(0.0, 0.1))?;
-            shape.borrow().locate(partial, &part.sub(0.1, 1.0))
+            let shape = shape.borrow();
+            match effort {
+                Some(effort) => shape.locate_with_effort(partial, effort, &part.sub(0.1, 1.0)),
+                None => shape.locate(partial, &part.sub(0.1, 1.0)),
+            }
         };
         let m = match located {
-            Ok(localization) => Match { index, score: localization.similarity_score, localization: Some(localization), error: None, screen_score: None },
+            Ok(localization) => Match {
+                index,
+                score: localization.similarity_score,
+                localization: Some(localization),
+                error: None,
+                screen_score: None,
+                quick: effort.is_some(),
+            },
             Err(Error::Cancelled) => return Err(Error::Cancelled.into()),
             Err(e) => {
-                failures += 1;
-                let m = Match { index, score: f64::INFINITY, localization: None, error: Some(e.to_string()), screen_score: None };
+                let m = Match { index, score: f64::INFINITY, localization: None, error: Some(e.to_string()), screen_score: None, quick: false };
                 first_error.get_or_insert(e);
                 m
             }
@@ -88,21 +138,26 @@ where
         kept.sort_by(|a, b| ranking_order((a.score, a.index), (b.score, b.index)));
         kept.truncate(top);
     }
-    if failures == n {
-        if let Some(e) = first_error {
-            return Err(e.into());
-        }
-    }
-    progress.report(1.0, "searched")?;
-    Ok(kept)
+    Ok((kept, first_error))
 }
 
-/// [`search_with`] after a screen: the `n = screen.len()` shapes are scored by `screen`
+/// The first error when no shape of `found` was located.
+fn every_shape_failed<E: From<Error>>(found: &[Match], first_error: Option<Error>) -> std::result::Result<(), E> {
+    match first_error {
+        Some(e) if found.iter().all(|m| m.localization.is_none()) => Err(e.into()),
+        _ => Ok(()),
+    }
+}
+
+/// A search after a screen: the `n = screen.len()` shapes are scored by `screen`
 /// ([`Screen::rank`], with the partial's `scale`) and only the `shortlist` best are opened
-/// (`open(i, progress)`, `i` the shape's index in the screen) and localized. The answer ranks
-/// the localized shapes by similarity score, then the others in screen order (screened out:
-/// no localization, no error, score `+inf`), each with its [`Match::screen_score`]; the
-/// `top` best are returned. With `shortlist >= n` every shape is localized, as by
+/// (`open(i, progress)`, `i` the shape's index in the screen) and localized, in two stages:
+/// each shortlisted shape is localized quickly (fewer starts and iterations: the
+/// [`Match::quick`] ones), then the [`REFINED_SHAPES`] best of those again in full, as by
+/// [`Localizer::locate`]. The answer ranks the fully localized shapes by similarity score,
+/// then the quick ones, then the others in screen order (screened out: no localization, no
+/// error, score `+inf`), each with its [`Match::screen_score`]; the `top` best are returned.
+/// With `shortlist >= n` every shape is localized in full (the exhaustive search), as by
 /// [`search_with`]. The screen takes the first 5 % of `progress`.
 pub fn search_screened<L, E>(
     partial: &TriMesh,
@@ -122,10 +177,24 @@ where
     }
     let screened = screen.rank(partial, scale, &progress.sub(0.0, 0.05))?;
     let chosen: Vec<usize> = screened.iter().take(shortlist).map(|r| r.0).collect();
-    let mut found = search_with(partial, chosen.len(), |i, p| open(chosen[i], p), usize::MAX, &progress.sub(0.05, 1.0))?;
+    let mut found = if chosen.len() > REFINED_SHAPES && chosen.len() < screened.len() {
+        let ranking_share = RANKING_COST * chosen.len() as f64;
+        let split = 0.05 + 0.95 * ranking_share / (ranking_share + REFINED_SHAPES as f64);
+        let (quick, first_error) = locate_each(partial, &chosen, &mut open, Some(RANKING_EFFORT), usize::MAX, &progress.sub(0.05, split))?;
+        every_shape_failed(&quick, first_error)?;
+        let best: Vec<usize> = quick.iter().take(REFINED_SHAPES).filter(|m| m.localization.is_some()).map(|m| m.index).collect();
+        let (full, _) = locate_each(partial, &best, &mut open, None, usize::MAX, &progress.sub(split, 1.0))?;
+        // A shape whose full localization failed keeps its quick one, in the quick order.
+        let full: Vec<Match> = full.into_iter().filter(|m| m.localization.is_some()).collect();
+        let refined: Vec<usize> = full.iter().map(|m| m.index).collect();
+        full.into_iter().chain(quick.into_iter().filter(|q| !refined.contains(&q.index))).collect()
+    } else {
+        let (found, first_error) = locate_each(partial, &chosen, &mut open, None, usize::MAX, &progress.sub(0.05, 1.0))?;
+        every_shape_failed(&found, first_error)?;
+        found
+    };
     let screen_score = |index: usize| screened.iter().find(|r| r.0 == index).map(|r| r.1);
     for m in &mut found {
-        m.index = chosen[m.index];
         m.screen_score = screen_score(m.index);
     }
     found.extend(screened.iter().skip(shortlist).map(|&(index, s)| Match {
@@ -134,8 +203,10 @@ where
         localization: None,
         error: None,
         screen_score: Some(s),
+        quick: false,
     }));
     found.truncate(top);
+    progress.report(1.0, "searched")?;
     Ok(found)
 }
 
