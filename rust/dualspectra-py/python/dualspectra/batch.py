@@ -11,7 +11,9 @@ Every number comes from the core; this module only distributes the calls and sor
 With a ``shortlist`` (or a prebuilt :class:`~dualspectra.Screen`), each partial is first
 ranked here by the library's screen and only its ``shortlist`` best (partial, full shape)
 pairs become work for the tasks; the others are listed after the localized shapes, screened
-out (as :func:`dualspectra.search` lists them).
+out (as :func:`dualspectra.search` lists them). Each shortlisted pair is localized in full:
+unlike :func:`dualspectra.search`, a batch does not localize its shortlist quickly first, so a
+shortlist of N costs N full localizations per partial.
 
 ``client=None`` runs the tasks one after the other here, without importing Dask; a
 ``dask.distributed.Client`` runs them on its workers (each needs the ``dualspectra`` wheel
