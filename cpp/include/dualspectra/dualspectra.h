@@ -40,6 +40,7 @@
 
 
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
