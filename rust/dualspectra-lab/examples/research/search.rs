@@ -205,6 +205,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                         "model": names[model], "class": classes[model], "score": m.score.is_finite().then_some(m.score),
                         "confidence": m.localization.as_ref().map(|l| l.confidence), "quick": m.quick, "located": m.localization.is_some(),
                         "seconds": m.localization.as_ref().map(|l| l.timings.total),
+                        "cost": m.localization.as_ref().map(|l| l.cost), "factor": m.localization.as_ref().map(|l| l.scale),
+                        "screen_score": m.screen_score,
+                        "chosen": m.localization.as_ref().and_then(|l| l.candidates.get(l.selected_start)).map(|c| serde_json::to_value(&c.scores).unwrap_or_default()),
                     })
                 })
                 .collect();
