@@ -253,7 +253,7 @@ void search_on_worker(LocalizerCache& cache, const std::vector<SearchLayer>& ful
         const ds_result* result = ds_search_result_result(ranked.get(), rank);
         if ((st = ds_search_result_index(ranked.get(), rank, &row.layer)) != DS_OK ||
             (st = ds_search_result_score(ranked.get(), rank, &row.score)) != DS_OK ||
-            (result != nullptr && (st = ds_result_confidence(result, &row.confidence)) != DS_OK)) {
+            (result != nullptr && (st = ds_search_result_confidence(ranked.get(), rank, &row.confidence)) != DS_OK)) {
             out.status = st;
             out.error = describe(st, "reading the ranking failed");
             return;

@@ -88,7 +88,7 @@ struct SearchLayer {
 struct RankedLayer {
     size_t layer = 0;         ///< position in the layers given
     double score = 0.0;       ///< similarity score, lower is more similar; +inf when not located
-    double confidence = 0.0;  ///< of the region on that layer, in [0, 1] (0 when not located)
+    double confidence = 0.0;  ///< that the partial is a part of this layer rather than of another one ranked, in [0, 1] (0 when not located)
     std::string error;        ///< why the partial could not be located on it ("" if it was)
 };
 

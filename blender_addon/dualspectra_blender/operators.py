@@ -465,12 +465,12 @@ class SearchOperator(JobOperator):
                 self.report({'INFO'}, f"#{rank} '{candidate}': not located ({match.error})")
             else:
                 self.report({'INFO'}, f"#{rank} '{candidate}': score {match.score:.4g} "
-                                      f"(confidence {float(match.localization.confidence):.2f})")
+                                      f"(confidence {float(match.confidence):.2f})")
         prepared = sum(not r for r in job.reused)
         self.report(
             {'INFO'},
             f"Best match for '{self._partial_name}': '{name}' (score {best.score:.4g}, confidence "
-            f"{float(found.confidence):.2f}); selected {int(region.sum())} of {len(region)} vertices; "
+            f"{float(best.confidence):.2f}); selected {int(region.sum())} of {len(region)} vertices; "
             f"{len(ranking)} objects ranked in {job.elapsed:.1f} s ({prepared} prepared, {len(ranking) - prepared} reused)",
         )
         return {'FINISHED'}

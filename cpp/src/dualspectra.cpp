@@ -303,6 +303,7 @@ std::vector<Match> search(const Mesh& partial, const std::vector<const Localizer
     m.error = std::string(d.error);
     m.screen_score = d.screen_score;
     m.quick = d.quick;
+    m.confidence = d.confidence;
     out.push_back(std::move(m));
   }
   return out;

@@ -176,6 +176,10 @@ int main() {
   }
   t.check(two_stage.size() == 4 && in_full == 2 && quick == 1 && full_first && two_stage[0].localization.region == best.region,
           "shortlist 3 of 4: one quick localization, the best two in full and first");
+  bool confidences = true;
+  for (const auto& m : two_stage)
+    confidences = confidences && (m.located ? (m.confidence >= 0.0 && m.confidence <= 1.0) : m.confidence == 0.0);
+  t.check(confidences, "the search's confidence: in [0, 1] when located, 0 when screened out");
   expect([&] { dualspectra::search(partial, library, 10, {}, 0); }, dualspectra::Status::InvalidArgument,
          "shortlist is 0", "shortlist = 0: InvalidArgument");
 

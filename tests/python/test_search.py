@@ -20,6 +20,7 @@ import pytest
 from conftest import assert_damaged_files_refused, bend, cut, figure
 
 import dualspectra as ds
+from dualspectra import _dualspectra
 from dualspectra.batch import BatchMatch, search_batch
 
 LIGHT: Dict[str, Any] = dict(k=6, plane_cuts=2, max_iterations=8, resolution=0)
@@ -174,6 +175,7 @@ def test_batch_here_equals_search(serial: List[List[BatchMatch]], ranked: List[L
         for b, m in zip(batch, matches):
             assert m.localization is not None and b.region is not None
             assert np.array_equal(b.region, m.localization.region) and b.confidence == m.localization.confidence
+            assert b.search_confidence == m.confidence, "the batch's search confidence is the search's"
     assert pickle.loads(pickle.dumps(serial))[0][0].score == serial[0][0].score
 
 
@@ -240,3 +242,9 @@ def test_a_shortlist_is_localized_quickly_and_its_best_two_again_in_full(
     direct = ds.Localizer(*four[found[0].index], **LIGHT).locate(*partials[0])
     np.testing.assert_array_equal(found[0].localization.region, direct.region)
     assert found[0].score == direct.similarity_score
+    # The search's confidence: the core's against the best other score; 0 screened out.
+    for m in found[:3]:
+        best_other = min(o.score for o in found[:3] if o.index != m.index)
+        expected = _dualspectra.search_confidence(m.score, best_other, m.localization.confidence)
+        assert m.confidence == expected and 0.0 <= m.confidence <= 1.0
+    assert found[3].confidence == 0.0

@@ -620,6 +620,17 @@ ds_status ds_search_result_score(const struct ds_search_result *search, size_t r
 // `search` any pointer (a handle argument, checked); `out` valid for one write.
 ds_status ds_search_result_screen_score(const struct ds_search_result *search, size_t rank, double *out);
 
+// How much to trust that the partial is a part of the shape at `rank` rather than of another
+// one searched, in [0, 1]: the localization's own confidence (`ds_result_confidence`, whether
+// the region fits) weighed by how far its score is behind or ahead of the best other shape's;
+// 0 when the partial
+// could not be located on it or the shape was screened out. What to threshold to reject a
+// match.
+//
+// # Safety
+// `search` any pointer (a handle argument, checked); `out` valid for one write.
+ds_status ds_search_result_confidence(const struct ds_search_result *search, size_t rank, double *out);
+
 // Whether the localization at `rank` is the screened search's quick one (fewer starts and
 // iterations, ranking the shortlist) rather than a full one: `ds_search_screened` localizes
 // its shortlist quickly and the best few of those again in full.

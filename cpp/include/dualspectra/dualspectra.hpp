@@ -258,6 +258,10 @@ struct Match {
   // ranking the shortlist) rather than a full one; the best few of the shortlist are
   // localized again in full.
   bool quick = false;
+  // How much to trust that the partial is a part of this shape rather than of another one
+  // searched, in [0, 1]: the localization's own confidence weighed by how far its score is
+  // behind or ahead of the best other shape's; 0 when not located. What to threshold to reject a match.
+  double confidence = 0.0;
 };
 
 // Which of the prepared full shapes is `partial` a part of, and where: the partial is located

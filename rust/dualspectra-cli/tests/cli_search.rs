@@ -253,4 +253,10 @@ fn a_shortlist_is_localized_quickly_and_its_best_two_in_full() {
     assert_eq!(quick, [false, false, true, false], "{ranking}");
     assert!(ranking[0]["shape"].as_str().unwrap().ends_with("figure.off") && ranking[1]["shape"].as_str().unwrap().ends_with("figure.off"));
     assert!(ranking[3]["score"].is_null() && ranking[3]["screen_score"].is_number());
+    // The search's confidence beside the localization's own; none for a shape screened out.
+    for i in 0..3 {
+        let (c, own) = (ranking[i]["confidence"].as_f64().unwrap(), ranking[i]["localization_confidence"].as_f64().unwrap());
+        assert!((0.0..=1.0).contains(&c) && (0.0..=1.0).contains(&own), "{ranking}");
+    }
+    assert!(ranking[3]["confidence"].is_null() && ranking[3]["localization_confidence"].is_null());
 }

@@ -163,6 +163,8 @@ pub(crate) struct SearchMatch {
     screen_score: f64,
     /// Whether the localization is the screened search's quick one rather than a full one.
     quick: bool,
+    /// The search's confidence in this shape (0 when not located).
+    confidence: f64,
 }
 
 /// Wall-clock seconds per stage.
@@ -1576,6 +1578,7 @@ pub unsafe extern "C" fn ds_search_screened(
                     error: m.error.as_deref().map(c_string),
                     screen_score: m.screen_score.unwrap_or(f64::NAN),
                     quick: m.quick,
+                    confidence: m.confidence,
                 })
                 .collect();
             Ok(ds_search_result { matches })
@@ -1640,6 +1643,20 @@ pub unsafe extern "C" fn ds_search_result_score(search: *const ds_search_result,
 #[no_mangle]
 pub unsafe extern "C" fn ds_search_result_screen_score(search: *const ds_search_result, rank: usize, out: *mut f64) -> ds_status {
     guard(|| unsafe { write_out(out, ranked(handle(search, "search")?, rank)?.screen_score, "out") })
+}
+
+/// How much to trust that the partial is a part of the shape at `rank` rather than of another
+/// one searched, in [0, 1]: the localization's own confidence (`ds_result_confidence`, whether
+/// the region fits) weighed by how far its score is behind or ahead of the best other shape's;
+/// 0 when the partial
+/// could not be located on it or the shape was screened out. What to threshold to reject a
+/// match.
+///
+/// # Safety
+/// `search` any pointer (a handle argument, checked); `out` valid for one write.
+#[no_mangle]
+pub unsafe extern "C" fn ds_search_result_confidence(search: *const ds_search_result, rank: usize, out: *mut f64) -> ds_status {
+    guard(|| unsafe { write_out(out, ranked(handle(search, "search")?, rank)?.confidence, "out") })
 }
 
 /// Whether the localization at `rank` is the screened search's quick one (fewer starts and

@@ -93,6 +93,7 @@ pub mod ffi {
         error: String,
         screen_score: f64,
         quick: bool,
+        confidence: f64,
     }
 
     /// A sparse `n x n` matrix as coordinate triplets (`rows[i], cols[i], values[i]`).
@@ -396,6 +397,7 @@ fn search(
                 error: m.error.unwrap_or_default(),
                 screen_score: m.screen_score.unwrap_or(f64::NAN),
                 quick: m.quick,
+                confidence: m.confidence,
             })
             .collect())
     })

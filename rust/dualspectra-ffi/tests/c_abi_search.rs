@@ -401,6 +401,25 @@ fn a_screened_search_locates_the_shortlist_only() {
     assert!(kinds.iter().filter(|&&q| !q).count() <= 2 && kinds.windows(2).all(|w| w[0] <= w[1]), "{kinds:?}");
     let mut q = false;
     assert_eq!(unsafe { ds_search_result_quick(out, all.len(), &mut q) }, DS_INVALID_ARGUMENT, "a rank past the end");
+    // The search's confidence: in [0, 1] for a located shape, the best's at least any other's
+    // full one behind it, 0 for a shape screened out; a rank past the end is an error.
+    let confidence = |rank: usize| {
+        let mut c = f64::NAN;
+        assert_eq!(unsafe { ds_search_result_confidence(out, rank, &mut c) }, DS_OK, "{}", last_error());
+        c
+    };
+    for r in 0..all.len() {
+        let c = confidence(r);
+        if located.contains(&r) {
+            assert!((0.0..=1.0).contains(&c), "rank {r}: {c}");
+        } else {
+            assert_eq!(c, 0.0, "rank {r} not located");
+        }
+    }
+    let mut c = 0.0;
+    assert_eq!(unsafe { ds_search_result_confidence(out, all.len(), &mut c) }, DS_INVALID_ARGUMENT, "a rank past the end");
+    assert_eq!(unsafe { ds_search_result_confidence(ptr::null(), 0, &mut c) }, DS_INVALID_ARGUMENT, "a NULL search");
+    assert_eq!(unsafe { ds_search_result_confidence(out, 0, ptr::null_mut()) }, DS_INVALID_ARGUMENT, "a NULL out");
     unsafe {
         ds_result_destroy(direct);
         ds_search_result_destroy(out);

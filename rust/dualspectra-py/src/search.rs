@@ -37,6 +37,10 @@ pub struct Match {
     /// ranking the shortlist) rather than a full localization.
     #[pyo3(get)]
     quick: bool,
+    /// How much to trust that the partial is a part of this shape rather than of another one
+    /// searched (`dualspectra::search::search_confidence`); 0 when not located.
+    #[pyo3(get)]
+    confidence: f64,
 }
 
 #[pymethods]
@@ -197,7 +201,7 @@ pub fn search(
             let full = &shapes[m.index];
             let localization =
                 m.localization.map(|l| full.localization(py, l, &partial).and_then(|l| Py::new(py, l))).transpose()?;
-            Ok(Match { index: m.index, score: m.score, localization, error: m.error, screen_score: m.screen_score, quick: m.quick })
+            Ok(Match { index: m.index, score: m.score, localization, error: m.error, screen_score: m.screen_score, quick: m.quick, confidence: m.confidence })
         })
         .collect::<PyResult<Vec<_>>>()?;
     let notes = shapes
@@ -218,4 +222,12 @@ pub fn search(
 #[pyo3(signature = (scored, top=None))]
 pub fn rank(scored: Vec<(f64, usize)>, top: Option<usize>) -> Vec<usize> {
     dualspectra::search::rank(&scored, top.unwrap_or(usize::MAX))
+}
+
+/// Native `search_confidence`: `dualspectra::search::search_confidence` of a localization's
+/// similarity `score` against the lowest score of the other shapes searched, `best_other`
+/// (`inf`: none), for rankings gathered outside `search` (`search_batch`).
+#[pyfunction]
+pub fn search_confidence(score: f64, best_other: f64, localization_confidence: f64) -> f64 {
+    dualspectra::search::search_confidence(score, best_other, localization_confidence)
 }

@@ -186,7 +186,11 @@ struct Ranked<'a> {
     /// Vertices of the region and of the shape, in the file's numbering.
     region_vertices: usize,
     n_vertices: usize,
+    /// How much to trust that the partial is a part of this shape rather than of another one
+    /// searched (the search's confidence, [0, 1]).
     confidence: Option<f64>,
+    /// The localization's own confidence (that its region fits, whatever the other shapes).
+    localization_confidence: Option<f64>,
     cost: Option<f64>,
     /// The region: 0-based vertex indices of the shape's file.
     region: Vec<usize>,
@@ -314,7 +318,8 @@ pub fn run(args: Args) -> Result<(), CliError> {
             score: m.score.is_finite().then_some(m.score),
             region_vertices: region.len(),
             n_vertices,
-            confidence: loc.map(|l| l.confidence),
+            confidence: loc.map(|_| m.confidence),
+            localization_confidence: loc.map(|l| l.confidence),
             cost: loc.map(|l| l.cost),
             region,
             error: m.error.as_deref(),

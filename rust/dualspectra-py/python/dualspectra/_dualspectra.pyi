@@ -22,6 +22,7 @@ __all__ = [
     "localize",
     "search",
     "rank",
+    "search_confidence",
     "options_schema",
     "cotangent_stiffness",
     "lumped_mass",
@@ -212,6 +213,12 @@ class Match:
         """Whether ``localization`` is a screened search's quick one (fewer starts and
         iterations, ranking the shortlist) rather than a full localization: the best two of
         the shortlist are localized again in full and ranked first."""
+    @property
+    def confidence(self) -> float:
+        """How much to trust that the partial is a part of this shape rather than of another
+        one searched, in [0, 1]: the localization's own confidence weighed by how far its
+        score is behind or ahead of the best other shape's; 0 when not located. What to threshold to reject a
+        match (``localization.confidence`` says only whether the region fits)."""
 
 @final
 class Screen:
@@ -266,6 +273,7 @@ def search(
     options: _Options = None,
 ) -> Tuple[List[Match], List[List[str]]]: ...
 def rank(scored: Sequence[Tuple[float, int]], top: Optional[int] = None) -> List[int]: ...
+def search_confidence(score: float, best_other: float, localization_confidence: float) -> float: ...
 def options_schema() -> List[Dict[str, Any]]: ...
 def spectrum(
     vertices: NDArray[np.float64], faces: NDArray[np.int64], k: int, metric: str, alpha: float

@@ -103,6 +103,10 @@ class BatchMatch:
     #: The screen's score of the shape for the partial (:meth:`~dualspectra.Screen.rank`,
     #: lower is more similar; ``None`` when no screen was used).
     screen_score: Optional[float] = None
+    #: How much to trust that the partial is a part of this shape rather than of another one
+    #: of its ranking (:attr:`dualspectra.Match.confidence`: the core's ``search_confidence``
+    #: against the lowest score of the others); ``None`` when not located.
+    search_confidence: Optional[float] = None
 
 
 # glibc's mallopt parameters (malloc.h).
@@ -287,7 +291,22 @@ def search_batch(
             screen_score = scores.get((m.partial, m.index))
             rankings[m.partial].append(m if screen_score is None else replace(m, screen_score=screen_score))
     ordered = [[r[i] for i in _dualspectra.rank([(m.score, m.index) for m in r])] for r in rankings]
+    ordered = [_with_search_confidences(r) for r in ordered]
     return [(r + out)[:top] for r, out in zip(ordered, screened_out)]
+
+
+def _with_search_confidences(ranking: List[BatchMatch]) -> List[BatchMatch]:
+    """``ranking`` with each located match's ``search_confidence`` against the lowest score of
+    the others located."""
+    located = [(m.index, m.score) for m in ranking if m.region is not None]
+    out = []
+    for m in ranking:
+        if m.region is None or m.confidence is None:
+            out.append(m)
+            continue
+        best_other = min((s for i, s in located if i != m.index), default=math.inf)
+        out.append(replace(m, search_confidence=_dualspectra.search_confidence(m.score, best_other, m.confidence)))
+    return out
 
 
 def _library_screen(fulls: List[FullShape], progress: Optional[ProgressCallback]) -> Screen:

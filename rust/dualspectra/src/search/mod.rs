@@ -42,13 +42,19 @@ pub struct Match {
     /// ([`search_screened`]).
     #[serde(default)]
     pub quick: bool,
+    /// How much to trust that the partial is a part of this shape rather than of another one
+    /// searched, in [0, 1] ([`search_confidence`]: the localization's own confidence and how far
+    /// its score is behind or ahead of the best other shape's); 0 when the shape was not
+    /// located. What to threshold to reject a match.
+    #[serde(default)]
+    pub confidence: f64,
 }
 
 /// Locate `partial` on every shape of `fulls` and rank them: the `top` best [`Match`]es
 /// (all of them when `top >= fulls.len()`), best (lowest score) first, ties broken by index.
 /// A shape the partial cannot be located on ranks last with its `error`; if that is every
 /// shape, the first shape's error is returned. Progress is split evenly over the shapes;
-/// cancelling returns [`Error::Cancelled`]. Only the `top` best localizations are kept in
+/// cancelling returns [`Error::Cancelled`]. Only the `top` best localizations (at least two) are kept in
 /// memory while searching. [`search_with`] with the shapes already open.
 pub fn search(partial: &TriMesh, fulls: &[&Localizer], top: usize, progress: &Progress) -> Result<Vec<Match>> {
     search_with(partial, fulls.len(), |i, _| Ok::<_, Error>(fulls[i]), top, progress)
@@ -70,8 +76,11 @@ where
     E: From<Error>,
 {
     let indices: Vec<usize> = (0..n).collect();
-    let (kept, first_error) = locate_each(partial, &indices, open, None, top, progress)?;
+    // The runner-up is kept for the best's confidence ([`search_confidence`]).
+    let (mut kept, first_error) = locate_each(partial, &indices, open, None, top.max(2), progress)?;
     every_shape_failed(&kept, first_error)?;
+    set_search_confidences(&mut kept);
+    kept.truncate(top);
     progress.report(1.0, "searched")?;
     Ok(kept)
 }
@@ -126,10 +135,11 @@ where
                 error: None,
                 screen_score: None,
                 quick: effort.is_some(),
+                confidence: 0.0,
             },
             Err(Error::Cancelled) => return Err(Error::Cancelled.into()),
             Err(e) => {
-                let m = Match { index, score: f64::INFINITY, localization: None, error: Some(e.to_string()), screen_score: None, quick: false };
+                let m = Match { index, score: f64::INFINITY, localization: None, error: Some(e.to_string()), screen_score: None, quick: false, confidence: 0.0 };
                 first_error.get_or_insert(e);
                 m
             }
@@ -193,6 +203,7 @@ where
         every_shape_failed(&found, first_error)?;
         found
     };
+    set_search_confidences(&mut found);
     let screen_score = |index: usize| screened.iter().find(|r| r.0 == index).map(|r| r.1);
     for m in &mut found {
         m.screen_score = screen_score(m.index);
@@ -204,6 +215,7 @@ where
         error: None,
         screen_score: Some(s),
         quick: false,
+        confidence: 0.0,
     }));
     found.truncate(top);
     progress.report(1.0, "searched")?;
@@ -220,6 +232,60 @@ pub fn search_shortlisted(partial: &TriMesh, fulls: &[&Localizer], top: usize, s
     let entries = fulls.iter().map(|f| ScreenEntry::new(&f.full_mesh())).collect::<Result<Vec<_>>>()?;
     let screen = Screen::new(&entries)?;
     search_screened(partial, &screen, fulls[0].options().scale, shortlist, |i, _| Ok::<_, Error>(fulls[i]), top, progress)
+}
+
+/// Weights of [`search_confidence`]: bias, the gap behind the best other shape's score and the
+/// lead over it (both in units of 0.01), and the logit of the localization's confidence. A
+/// logistic regression of "the right class" over the located models of the 280 dev library
+/// queries (docs/benchmarks/confidence/fit_search_confidence.py; docs/benchmarks/options.md,
+/// "Confidence across models").
+const SEARCH_CONFIDENCE_WEIGHTS: [f64; 4] = [1.626, -0.1516, 1.185, 0.3819];
+
+/// Gaps behind the best other shape above this count as this in [`search_confidence`].
+const SEARCH_CONFIDENCE_MAX_GAP: f64 = 1.0;
+
+/// Leads over the best other shape above this count as this in [`search_confidence`] (a
+/// lead of 0.05 is already decisive).
+const SEARCH_CONFIDENCE_MAX_LEAD: f64 = 0.05;
+
+/// Localization confidences are clamped to `[c, 1 - c]` before their logit is taken.
+const SEARCH_CONFIDENCE_CLAMP: f64 = 1e-6;
+
+/// How much to trust that a partial is a part of a shape rather than of another one
+/// searched, in [0, 1]: $\sigma(b + a\,g/0.01 + d\,l/0.01 + c\,\mathrm{logit}(p))$ from how far
+/// its similarity `score` is behind the lowest score of the other shapes searched,
+/// `best_other` ($g = \max(s - s_o, 0)$, clamped to 1), or ahead of it
+/// ($l = \max(s_o - s, 0)$, clamped to 0.05), and the localization's own [`Localization::confidence`] $p$ (clamped to
+/// $[10^{-6}, 1 - 10^{-6}]$). A localization's confidence alone says whether the region fits;
+/// a wrong model often fits a part well too, and what tells it apart is that another model
+/// fits about as well or better. Without another located shape (`best_other` infinite or
+/// NaN) there is nothing to weigh against: the localization's confidence. For front ends that
+/// gather a search's localizations themselves (a batch split per full shape); a search fills
+/// in [`Match::confidence`].
+pub fn search_confidence(score: f64, best_other: f64, localization_confidence: f64) -> f64 {
+    let p = if localization_confidence.is_nan() { 0.0 } else { localization_confidence.clamp(0.0, 1.0) };
+    if !best_other.is_finite() {
+        return p;
+    }
+    let [b, a_gap, a_lead, a_conf] = SEARCH_CONFIDENCE_WEIGHTS;
+    let diff = if score.is_nan() { SEARCH_CONFIDENCE_MAX_GAP } else { (score - best_other).clamp(-SEARCH_CONFIDENCE_MAX_LEAD, SEARCH_CONFIDENCE_MAX_GAP) };
+    let (gap, lead) = (diff.max(0.0), (-diff).max(0.0));
+    let p = p.clamp(SEARCH_CONFIDENCE_CLAMP, 1.0 - SEARCH_CONFIDENCE_CLAMP);
+    let z = b + a_gap * gap / 0.01 + a_lead * lead / 0.01 + a_conf * (p / (1.0 - p)).ln();
+    1.0 / (1.0 + (-z).exp())
+}
+
+/// Each located match's [`Match::confidence`] against the lowest score of the other located
+/// matches of `found`.
+fn set_search_confidences(found: &mut [Match]) {
+    let located: Vec<(usize, f64)> = found.iter().filter(|m| m.localization.is_some()).map(|m| (m.index, m.score)).collect();
+    for m in found.iter_mut() {
+        let best_other = located.iter().filter(|&&(i, _)| i != m.index).map(|&(_, s)| s).fold(f64::INFINITY, f64::min);
+        m.confidence = match &m.localization {
+            Some(l) => search_confidence(m.score, best_other, l.confidence),
+            None => 0.0,
+        };
+    }
 }
 
 /// The order of a ranking of `(similarity score, full shape index)`: lowest score (most

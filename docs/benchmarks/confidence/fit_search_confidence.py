@@ -1,0 +1,118 @@
+"""Fit the search's confidence across models (search::search_confidence), and report how well
+it tells the right model from the wrong ones over library queries.
+
+    python fit_search_confidence.py SEARCH.jsonl [FEATURES ...]
+
+SEARCH.jsonl: `cargo run --release -p dualspectra-lab --example research_search -- DATA
+SEARCH.jsonl` (every dev partial searched in the 180 models of `library/`, shortlist 10; one
+line per query with every located model's score, localization confidence and whether it was
+a quick localization). A row per located model; label: the model is of the right class.
+FEATURES: comma-separated lists of gap and lead (how far the score is behind, or ahead of,
+the lowest score of the other located models, clamped to 1 and 0.05, in units of 0.01), margin
+(lead - gap), logit (the logit of the localization's confidence, clamped to [1e-6, 1 - 1e-6]),
+quick (1 for a quick localization), position (0 for the best, 1 for the second...), first,
+screen_gap (the screen score's gap to the query's best, units of 0.01); default: logit;
+gap,logit; gap,lead,logit (the product's search_confidence); gap,lead,logit,quick.
+A logistic model (Newton, L2 0.1) is fitted on every row and reported by the area under the
+ROC curve of right against wrong models (per set, all, and fitted leaving that set out), of
+the answers (each query's best model, right against wrong), and the share of wrong models at confidence >= 0.5 and of right ones below it.
+"""
+import json, math, sys
+
+import numpy as np
+
+MAX_GAP = 1.0
+MAX_LEAD = 0.05
+CLAMP = 1e-6
+
+
+def rows(path, max_gap=MAX_GAP, max_lead=MAX_LEAD):
+    for line in open(path):
+        q = json.loads(line)
+        located = [m for m in q['ranking'] if m['located'] and m['score'] is not None]
+        if len(located) < 2:
+            continue
+        screen = [m['screen_score'] for m in q['ranking'] if m.get('screen_score') is not None]
+        screen_best = min(screen) if screen else 0.0
+        scores = sorted(m['score'] for m in located)
+        for i, m in enumerate(located):
+            best_other = min(o['score'] for j, o in enumerate(located) if j != i)
+            diff = min(max(m['score'] - best_other, -max_lead), max_gap)
+            p = min(max(m['confidence'], CLAMP), 1 - CLAMP)
+            yield dict(
+                set=q['set'], partial=q['partial'], label=int(m['class'] == q['right']), conf=m['confidence'],
+                gap=max(diff, 0.0) / 0.01, lead=max(-diff, 0.0) / 0.01, margin=-diff / 0.01,
+                logit=math.log(p / (1 - p)), quick=float(m['quick']),
+                position=float(scores.index(m['score'])), first=float(m['score'] == scores[0]),
+                screen_gap=((m.get('screen_score') or screen_best) - screen_best) / 0.01,
+            )
+
+
+def auc(pos, neg):
+    pos, neg = np.asarray(pos), np.asarray(neg)
+    if len(pos) == 0 or len(neg) == 0:
+        return float('nan')
+    gt = (pos[:, None] > neg[None, :]).sum() + 0.5 * (pos[:, None] == neg[None, :]).sum()
+    return gt / (len(pos) * len(neg))
+
+
+def fit_logistic(X, y, l2=0.1):
+    X1 = np.hstack([np.ones((len(X), 1)), X])
+    w = np.zeros(X1.shape[1])
+    for _ in range(100):
+        p = 1 / (1 + np.exp(-X1 @ w))
+        g = X1.T @ (p - y) + l2 * np.r_[0, w[1:]]
+        H = X1.T @ (X1 * (p * (1 - p))[:, None]) + l2 * np.diag(np.r_[0, np.ones(len(w) - 1)])
+        w -= np.linalg.solve(H, g)
+    return w
+
+
+def predict(w, X):
+    return 1 / (1 + np.exp(-(np.hstack([np.ones((len(X), 1)), X]) @ w)))
+
+
+def matrix(R, features):
+    return np.array([[r[f] for f in features] for r in R]), np.array([r['label'] for r in R], dtype=float)
+
+
+def report(R, name, score):
+    sets = sorted({r['set'] for r in R})
+    cells = []
+    for s in sets + ['all']:
+        rs = [r for r in R if s == 'all' or r['set'] == s]
+        cells.append(auc([score(r) for r in rs if r['label']], [score(r) for r in rs if not r['label']]))
+    # The answers: each query's best model, right against wrong.
+    tops = [r for r in R if r['first']]
+    cells.append(auc([score(r) for r in tops if r['label']], [score(r) for r in tops if not r['label']]))
+    wrong_high = np.mean([score(r) >= 0.5 for r in R if not r['label']])
+    right_low = np.mean([score(r) < 0.5 for r in R if r['label']])
+    print(f"| {name} | " + " | ".join(f"{c:.3f}" for c in cells) + f" | {wrong_high:.3f} | {right_low:.3f} |")
+
+
+if __name__ == '__main__':
+    R = list(rows(sys.argv[1]))
+    sets = sorted({r['set'] for r in R})
+    print(f"{len(R)} located models ({sum(r['label'] for r in R)} right) of "
+          f"{len({(r['set'], r['partial']) for r in R})} queries\n")
+    print("| confidence | " + " | ".join(sets) + " | all | answers | wrong >= 0.5 | right < 0.5 |")
+    print("|---|" + "---|" * (len(sets) + 4))
+    report(R, "localization's", lambda r: r['conf'])
+    for spec in sys.argv[2:] or ['logit', 'gap,logit', 'gap,lead,logit', 'gap,lead,logit,quick']:
+        features = spec.split(',')
+        X, y = matrix(R, features)
+        w = fit_logistic(X, y)
+        index = {id(r): i for i, r in enumerate(R)}
+        p = predict(w, X)
+        report(R, f"{spec}: w = [{', '.join(f'{v:.4g}' for v in w)}]", lambda r: p[index[id(r)]])
+        # Leave one set out: each set scored by the model fitted on the others.
+        if len(sets) < 2:
+            continue
+        held = {}
+        for s in sets:
+            train = [r for r in R if r['set'] != s]
+            Xt, yt = matrix(train, features)
+            wt = fit_logistic(Xt, yt)
+            test = [r for r in R if r['set'] == s]
+            for r, v in zip(test, predict(wt, matrix(test, features)[0])):
+                held[id(r)] = v
+        report(R, f"{spec}, each set left out of its fit", lambda r: held[id(r)])
