@@ -720,6 +720,13 @@ def test_search_operator_ranks_the_selected_objects_and_selects_on_the_best():
     pv, pf = world_arrays(part)
     direct = dualspectra.Localizer(fv, ff, **SEARCH_OPTIONS).locate(pv, pf)
     assert np.array_equal(sel, direct.region), f"differ on {(sel != direct.region).sum()} vertices"
+    # The reported confidences are the search's (against the other objects), not each
+    # localization's alone.
+    ranked = dualspectra.search((pv, pf), [dualspectra.Localizer(*world_arrays(ob), **SEARCH_OPTIONS) for ob in [full] + decoys])
+    said = [float(c) for c in re.findall(r"#\d+ '[^']+': score [0-9.e+-]+ \(confidence ([0-9.]+)\)", text)]
+    assert said == [round(m.confidence, 2) for m in ranked], (said, [m.confidence for m in ranked])
+    best = re.search(r"Best match for 'Partial': 'Full' \(score [0-9.e+-]+, confidence ([0-9.]+)\)", text)
+    assert best and float(best.group(1)) == said[0], text
     assert all("dualspectra_region" not in d.data.attributes for d in decoys + [part])
     # Again: every prepared shape is reused, the answer is the same.
     full.data.vertices.foreach_set("select", np.zeros(len(full.data.vertices), dtype=bool))

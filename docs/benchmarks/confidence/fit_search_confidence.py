@@ -10,7 +10,7 @@ a quick localization). A row per located model; label: the model is of the right
 FEATURES: comma-separated lists of gap and lead (how far the score is behind, or ahead of,
 the lowest score of the other located models, clamped to 1 and 0.05, in units of 0.01), margin
 (lead - gap), logit (the logit of the localization's confidence, clamped to [1e-6, 1 - 1e-6]),
-quick (1 for a quick localization), position (0 for the best, 1 for the second...), first,
+quick (1 for a quick localization), score (the similarity score itself, units of 0.01), position (0 for the best, 1 for the second...), first,
 screen_gap (the screen score's gap to the query's best, units of 0.01); default: logit;
 gap,logit; gap,lead,logit (the product's search_confidence); gap,lead,logit,quick.
 A logistic model (Newton, L2 0.1) is fitted on every row and reported by the area under the
@@ -42,7 +42,7 @@ def rows(path, max_gap=MAX_GAP, max_lead=MAX_LEAD):
             yield dict(
                 set=q['set'], partial=q['partial'], label=int(m['class'] == q['right']), conf=m['confidence'],
                 gap=max(diff, 0.0) / 0.01, lead=max(-diff, 0.0) / 0.01, margin=-diff / 0.01,
-                logit=math.log(p / (1 - p)), quick=float(m['quick']),
+                logit=math.log(p / (1 - p)), quick=float(m['quick']), score=m['score'] / 0.01,
                 position=float(scores.index(m['score'])), first=float(m['score'] == scores[0]),
                 screen_gap=((m.get('screen_score') or screen_best) - screen_best) / 0.01,
             )
