@@ -15,7 +15,7 @@ screen_gap (the screen score's gap to the query's best, units of 0.01); default:
 gap,logit; gap,lead,logit (the product's search_confidence); gap,lead,logit,quick.
 A logistic model (Newton, L2 0.1) is fitted on every row and reported by the area under the
 ROC curve of right against wrong models (per set, all, and fitted leaving that set out), of
-the answers (each query's best model, right against wrong), and the share of wrong models at confidence >= 0.5 and of right ones below it.
+the answers (each query's best model, right against wrong; all, then per set), and the share of wrong models at confidence >= 0.5 and of right ones below it.
 """
 import json, math, sys
 
@@ -81,9 +81,12 @@ def report(R, name, score):
     for s in sets + ['all']:
         rs = [r for r in R if s == 'all' or r['set'] == s]
         cells.append(auc([score(r) for r in rs if r['label']], [score(r) for r in rs if not r['label']]))
-    # The answers: each query's best model, right against wrong.
+    # The answers: each query's best model, right against wrong (all sets, then per set).
     tops = [r for r in R if r['first']]
     cells.append(auc([score(r) for r in tops if r['label']], [score(r) for r in tops if not r['label']]))
+    for s in sets:
+        t = [r for r in tops if r['set'] == s]
+        cells.append(auc([score(r) for r in t if r['label']], [score(r) for r in t if not r['label']]))
     wrong_high = np.mean([score(r) >= 0.5 for r in R if not r['label']])
     right_low = np.mean([score(r) < 0.5 for r in R if r['label']])
     print(f"| {name} | " + " | ".join(f"{c:.3f}" for c in cells) + f" | {wrong_high:.3f} | {right_low:.3f} |")
@@ -94,8 +97,9 @@ if __name__ == '__main__':
     sets = sorted({r['set'] for r in R})
     print(f"{len(R)} located models ({sum(r['label'] for r in R)} right) of "
           f"{len({(r['set'], r['partial']) for r in R})} queries\n")
-    print("| confidence | " + " | ".join(sets) + " | all | answers | wrong >= 0.5 | right < 0.5 |")
-    print("|---|" + "---|" * (len(sets) + 4))
+    print("| confidence | " + " | ".join(sets) + " | all | answers | " + " | ".join(f"answers {s}" for s in sets)
+          + " | wrong >= 0.5 | right < 0.5 |")
+    print("|---|" + "---|" * (2 * len(sets) + 4))
     report(R, "localization's", lambda r: r['conf'])
     for spec in sys.argv[2:] or ['logit', 'gap,logit', 'gap,lead,logit', 'gap,lead,logit,quick']:
         features = spec.split(',')

@@ -207,7 +207,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                         "seconds": m.localization.as_ref().map(|l| l.timings.total),
                         "cost": m.localization.as_ref().map(|l| l.cost), "factor": m.localization.as_ref().map(|l| l.scale),
                         "screen_score": m.screen_score,
-                        "chosen": m.localization.as_ref().and_then(|l| l.candidates.get(l.selected_start)).map(|c| serde_json::to_value(&c.scores).unwrap_or_default()),
+                        "chosen": m.localization.as_ref().and_then(|l| l.candidates.get(l.selected_start)).map(|c| serde_json::to_value(c.scores).unwrap_or_default()),
                     })
                 })
                 .collect();

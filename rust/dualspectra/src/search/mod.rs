@@ -6,7 +6,9 @@
 //! ([`crate::selection::similarity_score`]) ranks it, lower is more similar. Both shapes of
 //! every pair are scaled so that the full shape has unit area, and the score is built from
 //! dimensionless quantities, so scores of full shapes of different size and meshing are
-//! compared directly; the ranking by score is the answer, best first.
+//! compared directly; the ranking by score is the answer, best first. Each located shape's
+//! [`Match::confidence`] weighs its localization's confidence by how its score compares with
+//! the best other shape's ([`search_confidence`]).
 
 mod screen;
 
