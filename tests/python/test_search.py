@@ -242,9 +242,7 @@ def test_a_shortlist_is_localized_quickly_and_its_best_two_again_in_full(
     direct = ds.Localizer(*four[found[0].index], **LIGHT).locate(*partials[0])
     np.testing.assert_array_equal(found[0].localization.region, direct.region)
     assert found[0].score == direct.similarity_score
-    # The search's confidence: the core's against the best other score; 0 screened out.
-    for m in found[:3]:
-        best_other = min(o.score for o in found[:3] if o.index != m.index)
-        expected = _dualspectra.search_confidence(m.score, best_other, m.localization.confidence)
-        assert m.confidence == expected and 0.0 <= m.confidence <= 1.0
+    # The search's confidence: the core's among the located shapes; 0 screened out.
+    expected = _dualspectra.search_confidences([(m.score, m.localization.confidence) for m in found[:3]])
+    assert [m.confidence for m in found[:3]] == expected and all(0.0 <= c <= 1.0 for c in expected)
     assert found[3].confidence == 0.0

@@ -33,7 +33,7 @@ fn _dualspectra(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(localization::localize, m)?)?;
     m.add_function(wrap_pyfunction!(search::search, m)?)?;
     m.add_function(wrap_pyfunction!(search::rank, m)?)?;
-    m.add_function(wrap_pyfunction!(search::search_confidence, m)?)?;
+    m.add_function(wrap_pyfunction!(search::search_confidences, m)?)?;
     m.add_function(wrap_pyfunction!(options::options_schema, m)?)?;
     m.add_function(wrap_pyfunction!(operators::cotangent_stiffness, m)?)?;
     m.add_function(wrap_pyfunction!(operators::lumped_mass, m)?)?;

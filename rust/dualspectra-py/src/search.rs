@@ -38,7 +38,7 @@ pub struct Match {
     #[pyo3(get)]
     quick: bool,
     /// How much to trust that the partial is a part of this shape rather than of another one
-    /// searched (`dualspectra::search::search_confidence`); 0 when not located.
+    /// searched (`dualspectra::search::search_confidences`); 0 when not located.
     #[pyo3(get)]
     confidence: f64,
 }
@@ -224,10 +224,10 @@ pub fn rank(scored: Vec<(f64, usize)>, top: Option<usize>) -> Vec<usize> {
     dualspectra::search::rank(&scored, top.unwrap_or(usize::MAX))
 }
 
-/// Native `search_confidence`: `dualspectra::search::search_confidence` of a localization's
-/// similarity `score` against the lowest score of the other shapes searched, `best_other`
-/// (`inf`: none), for rankings gathered outside `search` (`search_batch`).
+/// Native `search_confidences`: `dualspectra::search::search_confidences` of every located
+/// shape's `(similarity score, localization confidence)` in a search, for rankings gathered
+/// outside `search` (`search_batch`).
 #[pyfunction]
-pub fn search_confidence(score: f64, best_other: f64, localization_confidence: f64) -> f64 {
-    dualspectra::search::search_confidence(score, best_other, localization_confidence)
+pub fn search_confidences(located: Vec<(f64, f64)>) -> Vec<f64> {
+    dualspectra::search::search_confidences(&located)
 }

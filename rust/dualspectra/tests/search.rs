@@ -6,7 +6,7 @@
 
 use dualspectra::evaluation::synthetic::{figure, horned_limbs, quadruped_limbs, synthetic_pair, SyntheticPair, SyntheticParams};
 use dualspectra::lab::selection::similarity_score;
-use dualspectra::search::{rank, search_confidence};
+use dualspectra::search::{rank, search_confidences};
 use dualspectra::{search, search_screened, search_with, Error, Localizer, Match, Options, Progress, Scale, Screen, ScreenEntry, TriMesh};
 use std::borrow::Borrow;
 use std::cell::Cell;
@@ -215,52 +215,60 @@ fn a_screened_search_localizes_its_shortlist_quickly_and_the_best_again_in_full(
     assert!(loc.candidates.len() < full.candidates.len(), "fewer starts: {} against {}", loc.candidates.len(), full.candidates.len());
     let out = &found[3];
     assert!(out.error.is_none() && out.score == f64::INFINITY && out.screen_score >= found[0].screen_score);
-    // The search's confidence: each located match's against the best other score.
-    for m in &found[..3] {
-        let loc = m.localization.as_ref().unwrap();
-        let best_other = found[..3].iter().filter(|o| o.index != m.index).map(|o| o.score).fold(f64::INFINITY, f64::min);
-        assert_eq!(m.confidence.to_bits(), search_confidence(m.score, best_other, loc.confidence).to_bits());
-    }
+    // The search's confidence: each located match's among the located ones.
+    let located: Vec<(f64, f64)> = found[..3].iter().map(|m| (m.score, m.localization.as_ref().unwrap().confidence)).collect();
+    let expected = search_confidences(&located);
+    assert_eq!(found[..3].iter().map(|m| m.confidence.to_bits()).collect::<Vec<_>>(), expected.iter().map(|c| c.to_bits()).collect::<Vec<_>>());
     assert_eq!(out.confidence, 0.0);
     // A shortlist of the whole library localizes every shape in full.
     let every = search_screened(&pair().partial, &screen, Scale::Same, 4, |i, _| Ok::<_, Error>(shapes[i]), usize::MAX, &Progress::none()).unwrap();
     assert!(every.iter().all(|m| m.localization.is_some() && !m.quick));
 }
 
-#[test]
-fn the_search_confidence_falls_behind_the_best_other_score_and_rises_with_the_fit() {
-    let c = search_confidence(0.41, 0.40, 0.8);
-    assert!((0.0..=1.0).contains(&c));
-    // Further behind the best other shape: less trusted; ahead of it: more.
-    assert!(search_confidence(0.42, 0.40, 0.8) < c);
-    assert!(search_confidence(0.40, 0.40, 0.8) > c);
-    assert!(search_confidence(0.39, 0.40, 0.8) > search_confidence(0.40, 0.40, 0.8));
-    // Far ahead counts as 0.05 ahead, far behind as 1 behind.
-    assert_eq!(search_confidence(0.1, 0.40, 0.8), search_confidence(0.35, 0.40, 0.8));
-    assert_eq!(search_confidence(3.0, 0.40, 0.8), search_confidence(1.5, 0.40, 0.8));
-    assert!(search_confidence(1.4, 0.40, 0.8) < search_confidence(0.45, 0.40, 0.8));
-    // A better-fitting localization: more trusted.
-    assert!(search_confidence(0.41, 0.40, 0.95) > c && search_confidence(0.41, 0.40, 0.2) < c);
-    // No other shape located: the localization's own confidence.
-    assert_eq!(search_confidence(0.41, f64::INFINITY, 0.8), 0.8);
-    // Unknown or degenerate inputs: a probability all the same, never NaN.
-    for (score, other, p) in [(f64::INFINITY, 0.4, 0.9), (f64::NAN, 0.4, 0.9), (0.4, f64::NAN, 0.9), (0.4, 0.4, f64::NAN), (0.4, 0.4, 0.0), (0.4, 0.4, 1.0), (0.4, 0.4, 7.0)] {
-        let v = search_confidence(score, other, p);
-        assert!((0.0..=1.0).contains(&v), "{score} {other} {p}: {v}");
-    }
-    assert!(search_confidence(f64::INFINITY, 0.4, 0.9) < c);
+/// [`search_confidences`] of a shape of score `score` and localization confidence `p` among
+/// others of scores `others` (localization confidence 0.5).
+fn confidence_among(score: f64, p: f64, others: &[f64]) -> f64 {
+    let located: Vec<(f64, f64)> = std::iter::once((score, p)).chain(others.iter().map(|&s| (s, 0.5))).collect();
+    search_confidences(&located)[0]
 }
 
 #[test]
-fn a_search_fills_in_each_located_shape_confidence_against_the_best_other() {
+fn the_search_confidence_falls_behind_the_best_other_score_and_rises_with_the_fit() {
+    let others = [0.40, 0.50];
+    let c = confidence_among(0.45, 0.8, &others);
+    assert!((0.0..=1.0).contains(&c));
+    // Further behind the best other shape: less trusted; ahead of it: more, up to a lead of 0.05.
+    assert!(confidence_among(0.48, 0.8, &others) < c);
+    assert!(confidence_among(0.40, 0.8, &others) > c);
+    assert!(confidence_among(0.38, 0.8, &others) > confidence_among(0.40, 0.8, &others));
+    assert_eq!(confidence_among(0.30, 0.8, &others), confidence_among(0.35, 0.8, &others));
+    // The gap is relative to the range of the search's scores: the last is as far behind as
+    // can be, however far.
+    assert_eq!(confidence_among(0.9, 0.8, &others).to_bits(), confidence_among(0.6, 0.8, &others).to_bits());
+    // A better-fitting localization: more trusted.
+    assert!(confidence_among(0.45, 0.95, &others) > c && confidence_among(0.45, 0.2, &others) < c);
+    // A lone shape: its localization's confidence; nothing located: nothing.
+    assert_eq!(search_confidences(&[(0.41, 0.8)]), [0.8]);
+    assert!(search_confidences(&[]).is_empty());
+    // Unknown or degenerate inputs: a probability all the same, never NaN; an unknown score is
+    // the furthest behind.
+    for (score, p, others) in [(f64::INFINITY, 0.9, vec![0.4]), (f64::NAN, 0.9, vec![0.4]), (0.4, 0.9, vec![f64::NAN]), (0.4, f64::NAN, vec![0.4]), (0.4, 0.0, vec![0.4]), (0.4, 1.0, vec![0.4, 0.4]), (0.4, 7.0, vec![f64::INFINITY])] {
+        let v = confidence_among(score, p, &others);
+        assert!((0.0..=1.0).contains(&v), "{score} {p} {others:?}: {v}");
+    }
+    assert!(confidence_among(f64::INFINITY, 0.8, &others) <= confidence_among(0.50, 0.8, &others));
+}
+
+#[test]
+fn a_search_fills_in_each_located_shape_confidence_among_all_located() {
     let shapes: Vec<&Localizer> = library().iter().collect();
     let found = search(&pair().partial, &shapes, 10, &Progress::none()).unwrap();
-    for (i, m) in found.iter().enumerate() {
-        let loc = m.localization.as_ref().unwrap();
-        let best_other = if i == 0 { found[1].score } else { found[0].score };
-        assert_eq!(m.confidence.to_bits(), search_confidence(m.score, best_other, loc.confidence).to_bits());
+    let located: Vec<(f64, f64)> = found.iter().map(|m| (m.score, m.localization.as_ref().unwrap().confidence)).collect();
+    let expected = search_confidences(&located);
+    for (m, c) in found.iter().zip(&expected) {
+        assert_eq!(m.confidence.to_bits(), c.to_bits());
     }
-    // `top` keeps the best and its confidence, weighed against the runner-up all the same.
+    // `top` keeps the best, its confidence weighed against every shape located all the same.
     let best = search(&pair().partial, &shapes, 1, &Progress::none()).unwrap();
     assert_eq!(best.len(), 1);
     assert_eq!(best[0].confidence.to_bits(), found[0].confidence.to_bits());

@@ -21,6 +21,7 @@
 //! localization.
 
 use dualspectra::mesh::io::{read_mesh_with_report, ReadOptions};
+use dualspectra::search::search_confidences;
 use dualspectra::{localize, search_screened, search_with, Localizer, Options, Progress, Scale, Screen, ScreenEntry};
 use dualspectra_lab::datasets::Dataset;
 use std::collections::HashSet;
@@ -55,6 +56,7 @@ fn analyse(log: &str) -> Result<(), Box<dyn std::error::Error>> {
     }
     println!("| set | search | queries | top-1 | top-5 | MRR | screen recall | confidence AUC (all located / in full) | score AUC (in full) | median s/query | x one localization |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    let mut search_aucs = Vec::new();
     for (set, one_stage, shortlist) in groups {
         let rs: Vec<&serde_json::Value> = rows.iter().filter(|r| r["set"] == set.as_str() && r["one_stage"] == one_stage && r["shortlist"] == shortlist).collect();
         let n = rs.len() as f64;
@@ -81,6 +83,31 @@ fn analyse(log: &str) -> Result<(), Box<dyn std::error::Error>> {
                 }
             }
         }
+        // The search's confidence (`search_confidences`, recomputed from each query's located
+        // scores and localization confidences): right against wrong models, and the answers
+        // (each query's first model) right against wrong.
+        let (mut right_search, mut wrong_search, mut right_answer, mut wrong_answer) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let (mut right_answer_own, mut wrong_answer_own) = (Vec::new(), Vec::new());
+        for r in &rs {
+            let located: Vec<&serde_json::Value> =
+                r["ranking"].as_array().into_iter().flatten().filter(|m| m["located"] == true && m["score"].is_number()).collect();
+            let pairs: Vec<(f64, f64)> = located.iter().map(|m| (m["score"].as_f64().unwrap_or(f64::INFINITY), m["confidence"].as_f64().unwrap_or(0.0))).collect();
+            for (k, (m, c)) in located.iter().zip(search_confidences(&pairs)).enumerate() {
+                let is_right = m["class"] == r["right"];
+                if is_right { right_search.push(c) } else { wrong_search.push(c) }
+                if k == 0 {
+                    let own = m["confidence"].as_f64().unwrap_or(0.0);
+                    if is_right { right_answer.push(c); right_answer_own.push(own) } else { wrong_answer.push(c); wrong_answer_own.push(own) }
+                }
+            }
+        }
+        search_aucs.push(format!(
+            "| {set} | {:.3} | {:.3} | {:.3} | {} |",
+            auc(&right_search, &wrong_search),
+            auc(&right_answer, &wrong_answer),
+            auc(&right_answer_own, &wrong_answer_own),
+            wrong_answer.len()
+        ));
         let seconds = median(rs.iter().filter_map(|r| r["search_seconds"].as_f64()).collect());
         let ratio = median(rs.iter().filter_map(|r| Some(r["search_seconds"].as_f64()? / r["one_seconds"].as_f64()?)).collect());
         println!(
@@ -95,6 +122,10 @@ fn analyse(log: &str) -> Result<(), Box<dyn std::error::Error>> {
             auc(&right_full, &wrong_full),
             auc(&right_score, &wrong_score)
         );
+    }
+    println!("\n| set | search confidence AUC, right against wrong models | the answers' (first models') | their localization confidence's | wrong answers |\n|---|---|---|---|---|");
+    for line in search_aucs {
+        println!("{line}");
     }
     Ok(())
 }
@@ -206,7 +237,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                         "confidence": m.localization.as_ref().map(|l| l.confidence), "quick": m.quick, "located": m.localization.is_some(),
                         "seconds": m.localization.as_ref().map(|l| l.timings.total),
                         "cost": m.localization.as_ref().map(|l| l.cost), "factor": m.localization.as_ref().map(|l| l.scale),
-                        "screen_score": m.screen_score,
+                        "screen_score": m.screen_score, "search_confidence": m.localization.is_some().then_some(m.confidence),
                         "chosen": m.localization.as_ref().and_then(|l| l.candidates.get(l.selected_start)).map(|c| serde_json::to_value(c.scores).unwrap_or_default()),
                     })
                 })

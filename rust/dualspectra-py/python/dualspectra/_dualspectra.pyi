@@ -22,7 +22,7 @@ __all__ = [
     "localize",
     "search",
     "rank",
-    "search_confidence",
+    "search_confidences",
     "options_schema",
     "cotangent_stiffness",
     "lumped_mass",
@@ -216,8 +216,9 @@ class Match:
     @property
     def confidence(self) -> float:
         """How much to trust that the partial is a part of this shape rather than of another
-        one searched, in [0, 1]: the localization's own confidence weighed by how far its
-        score is behind or ahead of the best other shape's; 0 when not located. What to threshold to reject a
+        one searched, in [0, 1]: how far its score is behind (relative to the range of the
+        search's scores), or ahead of, the best other shape's, and the localization's own
+        confidence; 0 when not located. What to threshold to reject a
         match (``localization.confidence`` says only whether the region fits)."""
 
 @final
@@ -273,7 +274,7 @@ def search(
     options: _Options = None,
 ) -> Tuple[List[Match], List[List[str]]]: ...
 def rank(scored: Sequence[Tuple[float, int]], top: Optional[int] = None) -> List[int]: ...
-def search_confidence(score: float, best_other: float, localization_confidence: float) -> float: ...
+def search_confidences(located: Sequence[Tuple[float, float]]) -> List[float]: ...
 def options_schema() -> List[Dict[str, Any]]: ...
 def spectrum(
     vertices: NDArray[np.float64], faces: NDArray[np.int64], k: int, metric: str, alpha: float

@@ -104,8 +104,8 @@ class BatchMatch:
     #: lower is more similar; ``None`` when no screen was used).
     screen_score: Optional[float] = None
     #: How much to trust that the partial is a part of this shape rather than of another one
-    #: of its ranking (:attr:`dualspectra.Match.confidence`: the core's ``search_confidence``
-    #: against the lowest score of the others); ``None`` when not located.
+    #: of its ranking (:attr:`dualspectra.Match.confidence`: the core's ``search_confidences``
+    #: among the located ones); ``None`` when not located.
     search_confidence: Optional[float] = None
 
 
@@ -296,17 +296,11 @@ def search_batch(
 
 
 def _with_search_confidences(ranking: List[BatchMatch]) -> List[BatchMatch]:
-    """``ranking`` with each located match's ``search_confidence`` against the lowest score of
-    the others located."""
-    located = [(m.index, m.score) for m in ranking if m.region is not None]
-    out = []
-    for m in ranking:
-        if m.region is None or m.confidence is None:
-            out.append(m)
-            continue
-        best_other = min((s for i, s in located if i != m.index), default=math.inf)
-        out.append(replace(m, search_confidence=_dualspectra.search_confidence(m.score, best_other, m.confidence)))
-    return out
+    """``ranking`` with each located match's ``search_confidence`` among the located ones."""
+    located = [m for m in ranking if m.region is not None and m.confidence is not None]
+    confidences = _dualspectra.search_confidences([(m.score, float(m.confidence or 0.0)) for m in located])
+    found = {id(m): c for m, c in zip(located, confidences)}
+    return [replace(m, search_confidence=found[id(m)]) if id(m) in found else m for m in ranking]
 
 
 def _library_screen(fulls: List[FullShape], progress: Optional[ProgressCallback]) -> Screen:

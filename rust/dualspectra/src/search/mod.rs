@@ -8,7 +8,7 @@
 //! dimensionless quantities, so scores of full shapes of different size and meshing are
 //! compared directly; the ranking by score is the answer, best first. Each located shape's
 //! [`Match::confidence`] weighs its localization's confidence by how its score compares with
-//! the best other shape's ([`search_confidence`]).
+//! the best other shape's ([`search_confidences`]).
 
 mod screen;
 
@@ -45,8 +45,8 @@ pub struct Match {
     #[serde(default)]
     pub quick: bool,
     /// How much to trust that the partial is a part of this shape rather than of another one
-    /// searched, in [0, 1] ([`search_confidence`]: the localization's own confidence and how far
-    /// its score is behind or ahead of the best other shape's); 0 when the shape was not
+    /// searched, in [0, 1] ([`search_confidences`]: how far its score is behind, or ahead of,
+    /// the best other shape's, and the localization's own confidence); 0 when the shape was not
     /// located. What to threshold to reject a match.
     #[serde(default)]
     pub confidence: f64,
@@ -56,7 +56,7 @@ pub struct Match {
 /// (all of them when `top >= fulls.len()`), best (lowest score) first, ties broken by index.
 /// A shape the partial cannot be located on ranks last with its `error`; if that is every
 /// shape, the first shape's error is returned. Progress is split evenly over the shapes;
-/// cancelling returns [`Error::Cancelled`]. Only the `top` best localizations (at least two) are kept in
+/// cancelling returns [`Error::Cancelled`]. Only the `top` best localizations are kept in
 /// memory while searching. [`search_with`] with the shapes already open.
 pub fn search(partial: &TriMesh, fulls: &[&Localizer], top: usize, progress: &Progress) -> Result<Vec<Match>> {
     search_with(partial, fulls.len(), |i, _| Ok::<_, Error>(fulls[i]), top, progress)
@@ -78,11 +78,13 @@ where
     E: From<Error>,
 {
     let indices: Vec<usize> = (0..n).collect();
-    // The runner-up is kept for the best's confidence ([`search_confidence`]).
-    let (mut kept, first_error) = locate_each(partial, &indices, open, None, top.max(2), progress)?;
+    let (mut kept, first_error, located) = locate_each(partial, &indices, open, None, top, progress)?;
     every_shape_failed(&kept, first_error)?;
-    set_search_confidences(&mut kept);
-    kept.truncate(top);
+    // Each kept shape's confidence among every located one, kept or not.
+    let confidences = search_confidences(&located.iter().map(|&(_, s, c)| (s, c)).collect::<Vec<_>>());
+    for m in &mut kept {
+        m.confidence = located.iter().zip(&confidences).find(|((i, _, _), _)| *i == m.index).map_or(0.0, |(_, &c)| c);
+    }
     progress.report(1.0, "searched")?;
     Ok(kept)
 }
@@ -101,8 +103,9 @@ const RANKING_COST: f64 = 0.4;
 
 /// Locate `partial` on the shapes `indices` (each opened by `open(index, progress)` just
 /// before and dropped right after), with `effort` (`None`: the localizer's options; a quick
-/// localization's [`Match::quick`] is set): the `top` best [`Match`]es in ranking order, and
-/// the first error of a shape the partial could not be located on.
+/// localization's [`Match::quick`] is set): the `top` best [`Match`]es in ranking order, the
+/// first error of a shape the partial could not be located on, and the index, score and
+/// localization confidence of every shape located.
 fn locate_each<L, E>(
     partial: &TriMesh,
     indices: &[usize],
@@ -110,18 +113,19 @@ fn locate_each<L, E>(
     effort: Option<Effort>,
     top: usize,
     progress: &Progress,
-) -> std::result::Result<(Vec<Match>, Option<Error>), E>
+) -> std::result::Result<(Vec<Match>, Option<Error>, Vec<(usize, f64, f64)>), E>
 where
     L: Borrow<Localizer>,
     E: From<Error>,
 {
     let n = indices.len();
     let mut kept: Vec<Match> = Vec::new();
+    let mut located = Vec::new();
     let mut first_error = None;
     for (position, &index) in indices.iter().enumerate() {
         let part = progress.sub(position as f64 / n as f64, (position + 1) as f64 / n as f64);
         part.report(0.0, "searching")?;
-        let located = {
+        let outcome = {
             let shape = open(index, &part.sub(0.0, 0.1))?;
             let shape = shape.borrow();
             match effort {
@@ -129,7 +133,7 @@ where
                 None => shape.locate(partial, &part.sub(0.1, 1.0)),
             }
         };
-        let m = match located {
+        let m = match outcome {
             Ok(localization) => Match {
                 index,
                 score: localization.similarity_score,
@@ -146,11 +150,14 @@ where
                 m
             }
         };
+        if let Some(l) = &m.localization {
+            located.push((index, m.score, l.confidence));
+        }
         kept.push(m);
         kept.sort_by(|a, b| ranking_order((a.score, a.index), (b.score, b.index)));
         kept.truncate(top);
     }
-    Ok((kept, first_error))
+    Ok((kept, first_error, located))
 }
 
 /// The first error when no shape of `found` was located.
@@ -192,16 +199,16 @@ where
     let mut found = if chosen.len() > REFINED_SHAPES && chosen.len() < screened.len() {
         let ranking_share = RANKING_COST * chosen.len() as f64;
         let split = 0.05 + 0.95 * ranking_share / (ranking_share + REFINED_SHAPES as f64);
-        let (quick, first_error) = locate_each(partial, &chosen, &mut open, Some(RANKING_EFFORT), usize::MAX, &progress.sub(0.05, split))?;
+        let (quick, first_error, _) = locate_each(partial, &chosen, &mut open, Some(RANKING_EFFORT), usize::MAX, &progress.sub(0.05, split))?;
         every_shape_failed(&quick, first_error)?;
         let best: Vec<usize> = quick.iter().take(REFINED_SHAPES).filter(|m| m.localization.is_some()).map(|m| m.index).collect();
-        let (full, _) = locate_each(partial, &best, &mut open, None, usize::MAX, &progress.sub(split, 1.0))?;
+        let (full, _, _) = locate_each(partial, &best, &mut open, None, usize::MAX, &progress.sub(split, 1.0))?;
         // A shape whose full localization failed keeps its quick one, in the quick order.
         let full: Vec<Match> = full.into_iter().filter(|m| m.localization.is_some()).collect();
         let refined: Vec<usize> = full.iter().map(|m| m.index).collect();
         full.into_iter().chain(quick.into_iter().filter(|q| !refined.contains(&q.index))).collect()
     } else {
-        let (found, first_error) = locate_each(partial, &chosen, &mut open, None, usize::MAX, &progress.sub(0.05, 1.0))?;
+        let (found, first_error, _) = locate_each(partial, &chosen, &mut open, None, usize::MAX, &progress.sub(0.05, 1.0))?;
         every_shape_failed(&found, first_error)?;
         found
     };
@@ -236,57 +243,69 @@ pub fn search_shortlisted(partial: &TriMesh, fulls: &[&Localizer], top: usize, s
     search_screened(partial, &screen, fulls[0].options().scale, shortlist, |i, _| Ok::<_, Error>(fulls[i]), top, progress)
 }
 
-/// Weights of [`search_confidence`]: bias, the gap behind the best other shape's score and the
-/// lead over it (both in units of 0.01), and the logit of the localization's confidence. A
-/// logistic regression of "the right class" over the located models of the 280 dev library
-/// queries (docs/benchmarks/confidence/fit_search_confidence.py; docs/benchmarks/options.md,
-/// "Confidence across models").
-const SEARCH_CONFIDENCE_WEIGHTS: [f64; 4] = [1.626, -0.1516, 1.185, 0.3819];
+/// Weights of [`search_confidences`]: bias, the relative gap behind the best other shape, the
+/// lead over it (in units of 0.01), and the logit of the localization's confidence. A
+/// logistic regression of "the right class" over the 2,798 located models of the 280 dev
+/// library queries (docs/benchmarks/confidence/fit_search_confidence.py;
+/// docs/benchmarks/options.md, "Confidence across models").
+const SEARCH_CONFIDENCE_WEIGHTS: [f64; 4] = [1.454, -2.845, 0.7931, 0.01688];
 
-/// Gaps behind the best other shape above this count as this in [`search_confidence`].
-const SEARCH_CONFIDENCE_MAX_GAP: f64 = 1.0;
-
-/// Leads over the best other shape above this count as this in [`search_confidence`] (a
-/// lead of 0.05 is already decisive).
+/// Leads over the best other shape above this count as this in [`search_confidences`] (a lead
+/// of 0.05 is already decisive).
 const SEARCH_CONFIDENCE_MAX_LEAD: f64 = 0.05;
 
 /// Localization confidences are clamped to `[c, 1 - c]` before their logit is taken.
 const SEARCH_CONFIDENCE_CLAMP: f64 = 1e-6;
 
-/// How much to trust that a partial is a part of a shape rather than of another one
-/// searched, in [0, 1]: $\sigma(b + a\,g/0.01 + d\,l/0.01 + c\,\mathrm{logit}(p))$ from how far
-/// its similarity `score` is behind the lowest score of the other shapes searched,
-/// `best_other` ($g = \max(s - s_o, 0)$, clamped to 1), or ahead of it
-/// ($l = \max(s_o - s, 0)$, clamped to 0.05), and the localization's own [`Localization::confidence`] $p$ (clamped to
-/// $[10^{-6}, 1 - 10^{-6}]$). A localization's confidence alone says whether the region fits;
-/// a wrong model often fits a part well too, and what tells it apart is that another model
-/// fits about as well or better. Without another located shape (`best_other` infinite or
-/// NaN) there is nothing to weigh against: the localization's confidence. For front ends that
-/// gather a search's localizations themselves (a batch split per full shape); a search fills
-/// in [`Match::confidence`].
-pub fn search_confidence(score: f64, best_other: f64, localization_confidence: f64) -> f64 {
-    let p = if localization_confidence.is_nan() { 0.0 } else { localization_confidence.clamp(0.0, 1.0) };
-    if !best_other.is_finite() {
-        return p;
-    }
+/// How much to trust, for each shape of a search, that the partial is a part of it rather
+/// than of another one searched, in [0, 1], from `located`: the similarity score and the
+/// localization's own [`Localization::confidence`] $p$ of every shape the partial was located
+/// on. For a shape of score $s$, with $s_o$ the lowest score of the others and $S$ the range
+/// of all the scores, $\sigma(b + a\,g + d\,l/0.01 + c\,\mathrm{logit}(p))$ of its relative gap
+/// $g = \min(\max(s - s_o, 0)/S, 1)$ behind the best other shape, its lead
+/// $l = \min(\max(s_o - s, 0), 0.05)$ over it, and $p$ (clamped to $[10^{-6}, 1 - 10^{-6}]$).
+/// A localization's confidence alone says whether the region fits; a wrong model often fits a
+/// part well too, and what tells it apart is that another model fits about as well or better.
+/// A lone shape keeps its localization's confidence (there is nothing to weigh it against); a
+/// score that is not finite counts as the furthest behind. What a search fills in as
+/// [`Match::confidence`]; for front ends that gather a search's localizations themselves (a
+/// batch split per full shape).
+pub fn search_confidences(located: &[(f64, f64)]) -> Vec<f64> {
     let [b, a_gap, a_lead, a_conf] = SEARCH_CONFIDENCE_WEIGHTS;
-    let diff = if score.is_nan() { SEARCH_CONFIDENCE_MAX_GAP } else { (score - best_other).clamp(-SEARCH_CONFIDENCE_MAX_LEAD, SEARCH_CONFIDENCE_MAX_GAP) };
-    let (gap, lead) = (diff.max(0.0), (-diff).max(0.0));
-    let p = p.clamp(SEARCH_CONFIDENCE_CLAMP, 1.0 - SEARCH_CONFIDENCE_CLAMP);
-    let z = b + a_gap * gap / 0.01 + a_lead * lead / 0.01 + a_conf * (p / (1.0 - p)).ln();
-    1.0 / (1.0 + (-z).exp())
+    let finite: Vec<f64> = located.iter().map(|&(s, _)| s).filter(|s| s.is_finite()).collect();
+    let range = finite.iter().fold(f64::NEG_INFINITY, |a, &s| a.max(s)) - finite.iter().fold(f64::INFINITY, |a, &s| a.min(s));
+    located
+        .iter()
+        .enumerate()
+        .map(|(i, &(score, p))| {
+            let p = if p.is_nan() { 0.0 } else { p.clamp(0.0, 1.0) };
+            if located.len() < 2 {
+                return p;
+            }
+            let best_other = located.iter().enumerate().filter(|&(j, _)| j != i).map(|(_, &(s, _))| s).filter(|s| s.is_finite()).fold(f64::INFINITY, f64::min);
+            let (gap, lead) = if !score.is_finite() {
+                (1.0, 0.0)
+            } else if !best_other.is_finite() {
+                (0.0, SEARCH_CONFIDENCE_MAX_LEAD)
+            } else if score > best_other {
+                (if range > 0.0 { ((score - best_other) / range).min(1.0) } else { 0.0 }, 0.0)
+            } else {
+                (0.0, (best_other - score).min(SEARCH_CONFIDENCE_MAX_LEAD))
+            };
+            let p = p.clamp(SEARCH_CONFIDENCE_CLAMP, 1.0 - SEARCH_CONFIDENCE_CLAMP);
+            let z = b + a_gap * gap + a_lead * lead / 0.01 + a_conf * (p / (1.0 - p)).ln();
+            1.0 / (1.0 + (-z).exp())
+        })
+        .collect()
 }
 
-/// Each located match's [`Match::confidence`] against the lowest score of the other located
-/// matches of `found`.
+/// Each located match's [`Match::confidence`] among the located matches of `found` (every
+/// shape located: [`search_confidences`]).
 fn set_search_confidences(found: &mut [Match]) {
-    let located: Vec<(usize, f64)> = found.iter().filter(|m| m.localization.is_some()).map(|m| (m.index, m.score)).collect();
+    let located: Vec<(f64, f64)> = found.iter().filter_map(|m| m.localization.as_ref().map(|l| (m.score, l.confidence))).collect();
+    let mut confidences = search_confidences(&located).into_iter();
     for m in found.iter_mut() {
-        let best_other = located.iter().filter(|&&(i, _)| i != m.index).map(|&(_, s)| s).fold(f64::INFINITY, f64::min);
-        m.confidence = match &m.localization {
-            Some(l) => search_confidence(m.score, best_other, l.confidence),
-            None => 0.0,
-        };
+        m.confidence = if m.localization.is_some() { confidences.next().unwrap_or(0.0) } else { 0.0 };
     }
 }
 
