@@ -259,7 +259,7 @@ struct Match {
   // localized again in full.
   bool quick = false;
   // How much to trust that the partial is a part of this shape rather than of another one
-  // searched, in [0, 1]: how far its score is behind (relative to the range of the search's
+  // searched, in [0, 1]: how far its score is behind (relative to the spread of the search's
   // scores), or ahead of, the best other shape's, and the localization's own confidence; 0
   // when not located. What to threshold to reject a match.
   double confidence = 0.0;

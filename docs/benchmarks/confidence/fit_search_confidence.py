@@ -9,11 +9,13 @@ line per query with every located model's score, localization confidence and whe
 a quick localization). A row per located model; label: the model is of the right class.
 FEATURES: comma-separated lists of gap and lead (how far the score is behind, or ahead of,
 the lowest score of the other located models, clamped to 1 and 0.05, in units of 0.01), rgap
-(the gap over the range of the query's located scores), margin
+(the gap over the range of the query's located scores), mgap (the gap over the median of the
+query's located scores less the lowest, clamped to 3), margin
 (lead - gap), logit (the logit of the localization's confidence, clamped to [1e-6, 1 - 1e-6]),
 quick (1 for a quick localization), score (the similarity score itself, units of 0.01), position (0 for the best, 1 for the second...), first,
 screen_gap (the screen score's gap to the query's best, units of 0.01); default: logit;
-gap,logit; gap,lead,logit; rgap,lead,logit (the product's search_confidences).
+gap,logit; gap,lead,logit; rgap,lead,logit; mgap,lead,logit (the product's
+search_confidences).
 A logistic model (Newton, L2 0.1) is fitted on every row and reported by the area under the
 ROC curve of right against wrong models (per set, all, and fitted leaving that set out), of
 the answers (each query's best model, right against wrong; all, then per set), and the share of wrong models at confidence >= 0.5 and of right ones below it.
@@ -46,6 +48,7 @@ def rows(path, max_gap=MAX_GAP, max_lead=MAX_LEAD):
                 logit=math.log(p / (1 - p)), quick=float(m['quick']), score=m['score'] / 0.01,
                 position=float(scores.index(m['score'])), first=float(m['score'] == scores[0]),
                 rgap=max(diff, 0.0) / max(scores[-1] - scores[0], 1e-12),
+                mgap=min(max(diff, 0.0) / max(scores[len(scores) // 2] - scores[0], 1e-12), 3.0),
                 screen_gap=((m.get('screen_score') or screen_best) - screen_best) / 0.01,
             )
 
@@ -103,7 +106,7 @@ if __name__ == '__main__':
           + " | wrong >= 0.5 | right < 0.5 |")
     print("|---|" + "---|" * (2 * len(sets) + 4))
     report(R, "localization's", lambda r: r['conf'])
-    for spec in sys.argv[2:] or ['logit', 'gap,logit', 'gap,lead,logit', 'rgap,lead,logit']:
+    for spec in sys.argv[2:] or ['logit', 'gap,logit', 'gap,lead,logit', 'rgap,lead,logit', 'mgap,lead,logit']:
         features = spec.split(',')
         X, y = matrix(R, features)
         w = fit_logistic(X, y)

@@ -1646,7 +1646,7 @@ pub unsafe extern "C" fn ds_search_result_screen_score(search: *const ds_search_
 }
 
 /// How much to trust that the partial is a part of the shape at `rank` rather than of another
-/// one searched, in [0, 1]: how far its score is behind (relative to the range of the search's
+/// one searched, in [0, 1]: how far its score is behind (relative to the spread of the search's
 /// scores), or ahead of, the best other shape's, and the localization's own confidence
 /// (`ds_result_confidence`, whether the region fits); 0 when the partial
 /// could not be located on it or the shape was screened out. What to threshold to reject a

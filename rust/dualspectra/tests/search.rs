@@ -234,7 +234,7 @@ fn confidence_among(score: f64, p: f64, others: &[f64]) -> f64 {
 
 #[test]
 fn the_search_confidence_falls_behind_the_best_other_score_and_rises_with_the_fit() {
-    let others = [0.40, 0.50];
+    let others = [0.40, 0.50, 0.52, 0.55];
     let c = confidence_among(0.45, 0.8, &others);
     assert!((0.0..=1.0).contains(&c));
     // Further behind the best other shape: less trusted; ahead of it: more, up to a lead of 0.05.
@@ -242,9 +242,12 @@ fn the_search_confidence_falls_behind_the_best_other_score_and_rises_with_the_fi
     assert!(confidence_among(0.40, 0.8, &others) > c);
     assert!(confidence_among(0.38, 0.8, &others) > confidence_among(0.40, 0.8, &others));
     assert_eq!(confidence_among(0.30, 0.8, &others), confidence_among(0.35, 0.8, &others));
-    // The gap is relative to the range of the search's scores: the last is as far behind as
-    // can be, however far.
-    assert_eq!(confidence_among(0.9, 0.8, &others).to_bits(), confidence_among(0.6, 0.8, &others).to_bits());
+    // The gap is relative to the search's spread of scores (the median less the lowest), and
+    // counts at most 3 spreads; a model far off does not change the others' confidences.
+    assert_eq!(confidence_among(0.9, 0.8, &others).to_bits(), confidence_among(0.8, 0.8, &others).to_bits());
+    let with_far = |far: f64| search_confidences(&[(0.40, 0.8), (0.42, 0.7), (0.45, 0.9), (0.47, 0.6), (far, 0.1)]);
+    assert_eq!(with_far(5.0)[..4], with_far(9.0)[..4]);
+    assert!(with_far(5.0)[1] > with_far(5.0)[3], "closer behind the best: more trusted");
     // A better-fitting localization: more trusted.
     assert!(confidence_among(0.45, 0.95, &others) > c && confidence_among(0.45, 0.2, &others) < c);
     // A lone shape: its localization's confidence; nothing located: nothing.

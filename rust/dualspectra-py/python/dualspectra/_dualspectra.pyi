@@ -216,7 +216,7 @@ class Match:
     @property
     def confidence(self) -> float:
         """How much to trust that the partial is a part of this shape rather than of another
-        one searched, in [0, 1]: how far its score is behind (relative to the range of the
+        one searched, in [0, 1]: how far its score is behind (relative to the spread of the
         search's scores), or ahead of, the best other shape's, and the localization's own
         confidence; 0 when not located. What to threshold to reject a
         match (``localization.confidence`` says only whether the region fits)."""

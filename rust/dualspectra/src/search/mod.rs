@@ -248,7 +248,10 @@ pub fn search_shortlisted(partial: &TriMesh, fulls: &[&Localizer], top: usize, s
 /// logistic regression of "the right class" over the 2,798 located models of the 280 dev
 /// library queries (docs/benchmarks/confidence/fit_search_confidence.py;
 /// docs/benchmarks/options.md, "Confidence across models").
-const SEARCH_CONFIDENCE_WEIGHTS: [f64; 4] = [1.454, -2.845, 0.7931, 0.01688];
+const SEARCH_CONFIDENCE_WEIGHTS: [f64; 4] = [1.403, -1.54, 0.6927, 0.1257];
+
+/// Relative gaps above this count as this in [`search_confidences`].
+const SEARCH_CONFIDENCE_MAX_GAP: f64 = 3.0;
 
 /// Leads over the best other shape above this count as this in [`search_confidences`] (a lead
 /// of 0.05 is already decisive).
@@ -260,9 +263,10 @@ const SEARCH_CONFIDENCE_CLAMP: f64 = 1e-6;
 /// How much to trust, for each shape of a search, that the partial is a part of it rather
 /// than of another one searched, in [0, 1], from `located`: the similarity score and the
 /// localization's own [`Localization::confidence`] $p$ of every shape the partial was located
-/// on. For a shape of score $s$, with $s_o$ the lowest score of the others and $S$ the range
-/// of all the scores, $\sigma(b + a\,g + d\,l/0.01 + c\,\mathrm{logit}(p))$ of its relative gap
-/// $g = \min(\max(s - s_o, 0)/S, 1)$ behind the best other shape, its lead
+/// on. For a shape of score $s$, with $s_o$ the lowest score of the others and $S$ the median
+/// of all the scores less the lowest, $\sigma(b + a\,g + d\,l/0.01 + c\,\mathrm{logit}(p))$ of its
+/// relative gap $g = \min(\max(s - s_o, 0)/S, 3)$ behind the best other shape (how many
+/// typical spreads of this search it is behind: a model far off does not change the others'), its lead
 /// $l = \min(\max(s_o - s, 0), 0.05)$ over it, and $p$ (clamped to $[10^{-6}, 1 - 10^{-6}]$).
 /// A localization's confidence alone says whether the region fits; a wrong model often fits a
 /// part well too, and what tells it apart is that another model fits about as well or better.
@@ -272,8 +276,12 @@ const SEARCH_CONFIDENCE_CLAMP: f64 = 1e-6;
 /// batch split per full shape).
 pub fn search_confidences(located: &[(f64, f64)]) -> Vec<f64> {
     let [b, a_gap, a_lead, a_conf] = SEARCH_CONFIDENCE_WEIGHTS;
-    let finite: Vec<f64> = located.iter().map(|&(s, _)| s).filter(|s| s.is_finite()).collect();
-    let range = finite.iter().fold(f64::NEG_INFINITY, |a, &s| a.max(s)) - finite.iter().fold(f64::INFINITY, |a, &s| a.min(s));
+    let mut finite: Vec<f64> = located.iter().map(|&(s, _)| s).filter(|s| s.is_finite()).collect();
+    finite.sort_by(f64::total_cmp);
+    let spread = match finite.first() {
+        Some(lowest) => finite[finite.len() / 2] - lowest,
+        None => 0.0,
+    };
     located
         .iter()
         .enumerate()
@@ -284,11 +292,12 @@ pub fn search_confidences(located: &[(f64, f64)]) -> Vec<f64> {
             }
             let best_other = located.iter().enumerate().filter(|&(j, _)| j != i).map(|(_, &(s, _))| s).filter(|s| s.is_finite()).fold(f64::INFINITY, f64::min);
             let (gap, lead) = if !score.is_finite() {
-                (1.0, 0.0)
+                (SEARCH_CONFIDENCE_MAX_GAP, 0.0)
             } else if !best_other.is_finite() {
                 (0.0, SEARCH_CONFIDENCE_MAX_LEAD)
             } else if score > best_other {
-                (if range > 0.0 { ((score - best_other) / range).min(1.0) } else { 0.0 }, 0.0)
+                let gap = score - best_other;
+                (if spread > 0.0 { (gap / spread).min(SEARCH_CONFIDENCE_MAX_GAP) } else { SEARCH_CONFIDENCE_MAX_GAP }, 0.0)
             } else {
                 (0.0, (best_other - score).min(SEARCH_CONFIDENCE_MAX_LEAD))
             };
