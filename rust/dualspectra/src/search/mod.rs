@@ -78,7 +78,7 @@ where
     E: From<Error>,
 {
     let indices: Vec<usize> = (0..n).collect();
-    let (mut kept, first_error, located) = locate_each(partial, &indices, open, None, top, progress)?;
+    let Pass { mut kept, first_error, located } = locate_each(partial, &indices, open, None, top, progress)?;
     every_shape_failed(&kept, first_error)?;
     // Each kept shape's confidence among every located one, kept or not.
     let confidences = search_confidences(&located.iter().map(|&(_, s, c)| (s, c)).collect::<Vec<_>>());
@@ -103,9 +103,8 @@ const RANKING_COST: f64 = 0.4;
 
 /// Locate `partial` on the shapes `indices` (each opened by `open(index, progress)` just
 /// before and dropped right after), with `effort` (`None`: the localizer's options; a quick
-/// localization's [`Match::quick`] is set): the `top` best [`Match`]es in ranking order, the
-/// first error of a shape the partial could not be located on, and the index, score and
-/// localization confidence of every shape located.
+/// localization's [`Match::quick`] is set): the `top` best [`Match`]es in ranking order and
+/// what else the pass found ([`Pass`]).
 fn locate_each<L, E>(
     partial: &TriMesh,
     indices: &[usize],
@@ -113,7 +112,7 @@ fn locate_each<L, E>(
     effort: Option<Effort>,
     top: usize,
     progress: &Progress,
-) -> std::result::Result<(Vec<Match>, Option<Error>, Vec<(usize, f64, f64)>), E>
+) -> std::result::Result<Pass, E>
 where
     L: Borrow<Localizer>,
     E: From<Error>,
@@ -157,7 +156,16 @@ where
         kept.sort_by(|a, b| ranking_order((a.score, a.index), (b.score, b.index)));
         kept.truncate(top);
     }
-    Ok((kept, first_error, located))
+    Ok(Pass { kept, first_error, located })
+}
+
+/// What [`locate_each`] found: the kept [`Match`]es in ranking order, the first error of a
+/// shape the partial could not be located on, and the index, score and localization
+/// confidence of every shape located.
+struct Pass {
+    kept: Vec<Match>,
+    first_error: Option<Error>,
+    located: Vec<(usize, f64, f64)>,
 }
 
 /// The first error when no shape of `found` was located.
@@ -199,16 +207,16 @@ where
     let mut found = if chosen.len() > REFINED_SHAPES && chosen.len() < screened.len() {
         let ranking_share = RANKING_COST * chosen.len() as f64;
         let split = 0.05 + 0.95 * ranking_share / (ranking_share + REFINED_SHAPES as f64);
-        let (quick, first_error, _) = locate_each(partial, &chosen, &mut open, Some(RANKING_EFFORT), usize::MAX, &progress.sub(0.05, split))?;
+        let Pass { kept: quick, first_error, .. } = locate_each(partial, &chosen, &mut open, Some(RANKING_EFFORT), usize::MAX, &progress.sub(0.05, split))?;
         every_shape_failed(&quick, first_error)?;
         let best: Vec<usize> = quick.iter().take(REFINED_SHAPES).filter(|m| m.localization.is_some()).map(|m| m.index).collect();
-        let (full, _, _) = locate_each(partial, &best, &mut open, None, usize::MAX, &progress.sub(split, 1.0))?;
+        let Pass { kept: full, .. } = locate_each(partial, &best, &mut open, None, usize::MAX, &progress.sub(split, 1.0))?;
         // A shape whose full localization failed keeps its quick one, in the quick order.
         let full: Vec<Match> = full.into_iter().filter(|m| m.localization.is_some()).collect();
         let refined: Vec<usize> = full.iter().map(|m| m.index).collect();
         full.into_iter().chain(quick.into_iter().filter(|q| !refined.contains(&q.index))).collect()
     } else {
-        let (found, first_error, _) = locate_each(partial, &chosen, &mut open, None, usize::MAX, &progress.sub(0.05, 1.0))?;
+        let Pass { kept: found, first_error, .. } = locate_each(partial, &chosen, &mut open, None, usize::MAX, &progress.sub(0.05, 1.0))?;
         every_shape_failed(&found, first_error)?;
         found
     };
