@@ -274,8 +274,8 @@ const SEARCH_CONFIDENCE_CLAMP: f64 = 1e-6;
 /// on. For a shape of score $s$, with $s_o$ the lowest score of the others and $S$ the median
 /// of all the scores less the lowest, $\sigma(b + a\,g + d\,l/0.01 + c\,\mathrm{logit}(p))$ of its
 /// relative gap $g = \min(\max(s - s_o, 0)/S, 3)$ behind the best other shape (how many
-/// typical spreads of this search it is behind: a model far off does not change the others'), its lead
-/// $l = \min(\max(s_o - s, 0), 0.05)$ over it, and $p$ (clamped to $[10^{-6}, 1 - 10^{-6}]$).
+/// typical spreads of this search it is behind: a model far off does not change the
+/// others'), its lead $l = \min(\max(s_o - s, 0), 0.05)$ over it, and $p$ (clamped to $[10^{-6}, 1 - 10^{-6}]$).
 /// A localization's confidence alone says whether the region fits; a wrong model often fits a
 /// part well too, and what tells it apart is that another model fits about as well or better.
 /// A lone shape keeps its localization's confidence (there is nothing to weigh it against); a
@@ -290,6 +290,11 @@ pub fn search_confidences(located: &[(f64, f64)]) -> Vec<f64> {
         Some(lowest) => finite[finite.len() / 2] - lowest,
         None => 0.0,
     };
+    // The lowest finite score (at its first position) and the lowest of the others: the best
+    // other score of every shape.
+    let lowest_at = located.iter().enumerate().filter(|(_, &(s, _))| s.is_finite()).min_by(|a, b| a.1 .0.total_cmp(&b.1 .0)).map(|(i, _)| i);
+    let lowest = finite.first().copied().unwrap_or(f64::INFINITY);
+    let second_lowest = finite.get(1).copied().unwrap_or(f64::INFINITY);
     located
         .iter()
         .enumerate()
@@ -298,7 +303,7 @@ pub fn search_confidences(located: &[(f64, f64)]) -> Vec<f64> {
             if located.len() < 2 {
                 return p;
             }
-            let best_other = located.iter().enumerate().filter(|&(j, _)| j != i).map(|(_, &(s, _))| s).filter(|s| s.is_finite()).fold(f64::INFINITY, f64::min);
+            let best_other = if Some(i) == lowest_at { second_lowest } else { lowest };
             let (gap, lead) = if !score.is_finite() {
                 (SEARCH_CONFIDENCE_MAX_GAP, 0.0)
             } else if !best_other.is_finite() {
