@@ -24,6 +24,9 @@ import json, math, sys
 
 import numpy as np
 
+# The same AUC and logistic fit as the localization's confidence.
+from fit_confidence_models import auc, fit_logistic, predict
+
 MAX_GAP = 1.0
 MAX_LEAD = 0.05
 CLAMP = 1e-6
@@ -51,29 +54,6 @@ def rows(path, max_gap=MAX_GAP, max_lead=MAX_LEAD):
                 mgap=min(max(diff, 0.0) / max(scores[len(scores) // 2] - scores[0], 1e-12), 3.0),
                 screen_gap=((m.get('screen_score') or screen_best) - screen_best) / 0.01,
             )
-
-
-def auc(pos, neg):
-    pos, neg = np.asarray(pos), np.asarray(neg)
-    if len(pos) == 0 or len(neg) == 0:
-        return float('nan')
-    gt = (pos[:, None] > neg[None, :]).sum() + 0.5 * (pos[:, None] == neg[None, :]).sum()
-    return gt / (len(pos) * len(neg))
-
-
-def fit_logistic(X, y, l2=0.1):
-    X1 = np.hstack([np.ones((len(X), 1)), X])
-    w = np.zeros(X1.shape[1])
-    for _ in range(100):
-        p = 1 / (1 + np.exp(-X1 @ w))
-        g = X1.T @ (p - y) + l2 * np.r_[0, w[1:]]
-        H = X1.T @ (X1 * (p * (1 - p))[:, None]) + l2 * np.diag(np.r_[0, np.ones(len(w) - 1)])
-        w -= np.linalg.solve(H, g)
-    return w
-
-
-def predict(w, X):
-    return 1 / (1 + np.exp(-(np.hstack([np.ones((len(X), 1)), X]) @ w)))
 
 
 def matrix(R, features):

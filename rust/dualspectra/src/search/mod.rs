@@ -81,10 +81,7 @@ where
     let Pass { mut kept, first_error, located } = locate_each(partial, &indices, open, None, top, progress)?;
     every_shape_failed(&kept, first_error)?;
     // Each kept shape's confidence among every located one, kept or not.
-    let confidences = search_confidences(&located.iter().map(|&(_, s, c)| (s, c)).collect::<Vec<_>>());
-    for m in &mut kept {
-        m.confidence = located.iter().zip(&confidences).find(|((i, _, _), _)| *i == m.index).map_or(0.0, |(_, &c)| c);
-    }
+    set_search_confidences(&mut kept, &located);
     progress.report(1.0, "searched")?;
     Ok(kept)
 }
@@ -220,7 +217,8 @@ where
         every_shape_failed(&found, first_error)?;
         found
     };
-    set_search_confidences(&mut found);
+    let located: Vec<(usize, f64, f64)> = found.iter().filter_map(|m| m.localization.as_ref().map(|l| (m.index, m.score, l.confidence))).collect();
+    set_search_confidences(&mut found, &located);
     let screen_score = |index: usize| screened.iter().find(|r| r.0 == index).map(|r| r.1);
     for m in &mut found {
         m.screen_score = screen_score(m.index);
@@ -292,9 +290,9 @@ pub fn search_confidences(located: &[(f64, f64)]) -> Vec<f64> {
     };
     // The lowest finite score (at its first position) and the lowest of the others: the best
     // other score of every shape.
-    let lowest_at = located.iter().enumerate().filter(|(_, &(s, _))| s.is_finite()).min_by(|a, b| a.1 .0.total_cmp(&b.1 .0)).map(|(i, _)| i);
     let lowest = finite.first().copied().unwrap_or(f64::INFINITY);
     let second_lowest = finite.get(1).copied().unwrap_or(f64::INFINITY);
+    let lowest_at = located.iter().position(|&(s, _)| s == lowest);
     located
         .iter()
         .enumerate()
@@ -321,13 +319,13 @@ pub fn search_confidences(located: &[(f64, f64)]) -> Vec<f64> {
         .collect()
 }
 
-/// Each located match's [`Match::confidence`] among the located matches of `found` (every
-/// shape located: [`search_confidences`]).
-fn set_search_confidences(found: &mut [Match]) {
-    let located: Vec<(f64, f64)> = found.iter().filter_map(|m| m.localization.as_ref().map(|l| (m.score, l.confidence))).collect();
-    let mut confidences = search_confidences(&located).into_iter();
+/// Each match's [`Match::confidence`] among `located`, the index, score and localization
+/// confidence of every shape located in the search ([`search_confidences`]); 0 for a match
+/// not among them.
+fn set_search_confidences(found: &mut [Match], located: &[(usize, f64, f64)]) {
+    let confidences = search_confidences(&located.iter().map(|&(_, s, c)| (s, c)).collect::<Vec<_>>());
     for m in found.iter_mut() {
-        m.confidence = if m.localization.is_some() { confidences.next().unwrap_or(0.0) } else { 0.0 };
+        m.confidence = located.iter().zip(&confidences).find(|((i, _, _), _)| *i == m.index).map_or(0.0, |(_, &c)| c);
     }
 }
 
