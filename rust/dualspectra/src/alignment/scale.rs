@@ -7,9 +7,11 @@
 //! ($s = \sqrt{a / A_N}$) is scored by
 //! $$d(a) = \frac{1}{|P|}\sum_{p \in P} \min_{q} \lVert D_N(p;\, r_0/s) - D_M(q;\, r_0) \rVert,$$
 //! the mean distance of the partial's keypoints $P$ to their nearest full-shape descriptor:
-//! at the right scale the partial's patches look like the full shape's. $a$ is scanned on a
-//! log grid over $[10^{-2}, 1]$ and refined by a parabola through the best point and its
-//! neighbours (in $\log a$). Measured per dev set in docs/benchmarks/options.md ("Units").
+//! at the right scale the partial's patches look like the full shape's; and by the
+//! consistency $c(a)$ of those nearest matches ([`match_consistency`]: right matches keep the
+//! partial's distances). $a$ is scanned on a log grid over $[10^{-2}, 1]$ for the lowest
+//! $\ln d - \frac12 \ln(c + 0.05)$ and refined by a parabola through the best point and its
+//! neighbours (in $\log a$). Measured per dev set in docs/benchmarks/options.md (`scale`).
 
 use crate::error::{Error, Result};
 use crate::geometry::shot;
@@ -32,8 +34,8 @@ const KEYPOINTS: usize = 200;
 /// The estimated area fraction $a^*$ and the factor $s = \sqrt{a^* / A_N}$ that brings
 /// `partial` (area $A_N$, in the units of a full shape of unit area, possibly wrong) to the
 /// full shape's units. `full_descriptors`: SHOT at [`shot::DEFAULT_RADIUS_FRACTION`] on the
-/// full shape of unit area (rows: keypoints).
-pub fn estimate_scale(full_descriptors: &Mat<f64>, partial: &TriMesh) -> Result<(f64, f64)> {
+/// full shape of unit area (rows: keypoints), taken at `full_positions` (one per row).
+pub fn estimate_scale(full_descriptors: &Mat<f64>, full_positions: &[[f64; 3]], partial: &TriMesh) -> Result<(f64, f64)> {
     let area = partial.area();
     if !(area > 0.0 && area.is_finite()) || full_descriptors.nrows() == 0 {
         return Err(Error::InvalidArgument("scale = auto: no area or no full-shape descriptor to estimate the scale from".into()));
@@ -43,10 +45,16 @@ pub fn estimate_scale(full_descriptors: &Mat<f64>, partial: &TriMesh) -> Result<
     let keypoints: Vec<u32> = (0..n as u32).step_by(step).collect();
     let log_a = area_grid();
     let count = log_a.len();
-    let (best, costs) = coarse_to_fine_minimum(count, |i| {
-        let s = (10f64.powf(log_a[i]) / area).sqrt();
+    let hypothesis = |la: f64| -> Result<Hypothesis> {
+        let s = (10f64.powf(la) / area).sqrt();
         let d = shot::shot_keypoint_descriptors(partial, &keypoints, shot::DEFAULT_RADIUS_FRACTION / s, shot::DEFAULT_MIN_NEIGHBORS)?;
-        Ok(mean_nearest_distance(full_descriptors, &d))
+        let (distances, matches) = nearest_rows(full_descriptors, &d);
+        let distance = distances.iter().sum::<f64>() / distances.len() as f64;
+        let consistency = match_consistency(partial, &keypoints, s, full_positions, &matches);
+        Ok(Hypothesis { distance, consistency })
+    };
+    let (best, costs) = coarse_to_fine_minimum(count, |i| {
+        Ok(hypothesis(log_a[i])?.cost())
     })?;
     let cost = |i: usize| costs[i].unwrap_or(f64::INFINITY);
     let la = if best > 0 && best + 1 < count {
@@ -60,6 +68,56 @@ pub fn estimate_scale(full_descriptors: &Mat<f64>, partial: &TriMesh) -> Result<
     };
     let fraction = 10f64.powf(la);
     Ok((fraction, (fraction / area).sqrt()))
+}
+
+/// One area hypothesis scored: the mean descriptor distance to the full shape and the
+/// consistency of the nearest-descriptor matches ([`match_consistency`]).
+#[derive(Clone, Copy, Debug)]
+struct Hypothesis {
+    distance: f64,
+    consistency: f64,
+}
+
+impl Hypothesis {
+    /// $\ln d - $ [`CONSISTENCY_WEIGHT`] $\ln(c + $ [`CONSISTENCY_FLOOR`]$)$: a low
+    /// descriptor distance $d$ with consistent matches $c$.
+    fn cost(&self) -> f64 {
+        self.distance.ln() - CONSISTENCY_WEIGHT * (self.consistency + CONSISTENCY_FLOOR).ln()
+    }
+}
+
+/// Weight of the matches' consistency against the descriptor distance (in logarithms).
+const CONSISTENCY_WEIGHT: f64 = 0.5;
+/// Added to the consistency before its logarithm: a hypothesis with no consistent pair is
+/// not ruled out by that alone.
+const CONSISTENCY_FLOOR: f64 = 0.05;
+
+/// Largest $|\ln(f/e)|$ of a consistent pair (20 %).
+const CONSISTENT_LOG_RATIO: f64 = 0.2;
+
+/// The fraction of pairs of partial keypoints (positions times `s`, farther apart than the
+/// SHOT radius $r_0$) whose distance $e$ is kept by their nearest-descriptor matches on the
+/// full shape (distance $f$): $|\ln(f/e)| <$ [`CONSISTENT_LOG_RATIO`]. Matches at the right
+/// scale are near their true places, so they keep the partial's distances; at a wrong scale
+/// they scatter.
+fn match_consistency(partial: &TriMesh, keypoints: &[u32], s: f64, full_positions: &[[f64; 3]], matches: &[usize]) -> f64 {
+    let pos = partial.vertices();
+    let length = |a: [f64; 3], b: [f64; 3]| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
+    let (mut pairs, mut consistent) = (0usize, 0usize);
+    for i in 0..keypoints.len() {
+        for j in i + 1..keypoints.len() {
+            let e = s * length(pos[keypoints[i] as usize], pos[keypoints[j] as usize]);
+            if e <= shot::DEFAULT_RADIUS_FRACTION {
+                continue;
+            }
+            let (Some(&a), Some(&b)) = (full_positions.get(matches[i]), full_positions.get(matches[j])) else { continue };
+            pairs += 1;
+            if (length(a, b) / e).ln().abs() < CONSISTENT_LOG_RATIO {
+                consistent += 1;
+            }
+        }
+    }
+    if pairs == 0 { 0.0 } else { consistent as f64 / pairs as f64 }
 }
 
 /// The index of the lowest of `count` costs found by scanning every [`COARSE_STRIDE`]-th
@@ -123,17 +181,18 @@ pub(crate) fn nearest_distances(model: &Mat<f32>, model_norms2: &[f32], query: f
     out
 }
 
-/// Mean over the rows of `partial` of the Euclidean distance to the nearest row of `full`
-/// (by blocks of `full`: memory bounded).
-fn mean_nearest_distance(full: &Mat<f64>, partial: &Mat<f64>) -> f64 {
+/// Per row of `partial`, the Euclidean distance to the nearest row of `full` and that row
+/// (by blocks of `full`: memory bounded; ties to the lower row).
+fn nearest_rows(full: &Mat<f64>, partial: &Mat<f64>) -> (Vec<f64>, Vec<usize>) {
     const BLOCK: usize = 512;
     let d = full.ncols();
     if partial.nrows() == 0 || partial.ncols() != d {
-        return f64::INFINITY;
+        return (vec![f64::INFINITY; partial.nrows()], vec![0; partial.nrows()]);
     }
     let norm2 = |m: &Mat<f64>, i: usize| (0..d).map(|c| m[(i, c)].powi(2)).sum::<f64>();
     let p2: Vec<f64> = (0..partial.nrows()).map(|j| norm2(partial, j)).collect();
     let mut nearest = vec![f64::INFINITY; partial.nrows()];
+    let mut row = vec![0usize; partial.nrows()];
     for start in (0..full.nrows()).step_by(BLOCK) {
         let rows = BLOCK.min(full.nrows() - start);
         let mut dot = Mat::<f64>::zeros(rows, partial.nrows());
@@ -141,11 +200,15 @@ fn mean_nearest_distance(full: &Mat<f64>, partial: &Mat<f64>) -> f64 {
         for r in 0..rows {
             let f2 = norm2(full, start + r);
             for (j, best) in nearest.iter_mut().enumerate() {
-                *best = best.min((f2 + p2[j] - 2.0 * dot[(r, j)]).max(0.0));
+                let distance2 = (f2 + p2[j] - 2.0 * dot[(r, j)]).max(0.0);
+                if distance2 < *best {
+                    *best = distance2;
+                    row[j] = start + r;
+                }
             }
         }
     }
-    nearest.iter().map(|x| x.sqrt()).sum::<f64>() / nearest.len() as f64
+    (nearest.iter().map(|x| x.sqrt()).collect(), row)
 }
 
 #[cfg(test)]
@@ -167,7 +230,7 @@ mod tests {
         assert!((0.1..0.9).contains(&truth), "cut area {truth}");
         for factor in [1e-3, 1.0, 1e3] {
             let given = cut.map_positions(|p| p.map(|c| c * factor)).unwrap();
-            let (fraction, s) = estimate_scale(&descriptors, &given).unwrap();
+            let (fraction, s) = estimate_scale(&descriptors, full.vertices(), &given).unwrap();
             let error = (fraction / truth).sqrt();
             assert!((0.85..1.18).contains(&error), "factor {factor}: fraction {fraction} vs {truth}");
             assert!((s * factor - 1.0).abs() < 0.18, "factor {factor}: s {s}");
@@ -202,9 +265,39 @@ mod tests {
         assert!(coarse_to_fine_minimum(25, |i| if i == 10 { Err(Error::InvalidArgument("x".into())) } else { Ok(0.0) }).is_err());
     }
 
+    /// Matches at their true places keep every distance (consistency 1); the same matches
+    /// under a factor off by 2 keep none; matches scattered (reversed) keep few.
+    #[test]
+    fn consistency_counts_the_distances_kept() {
+        let mesh = crate::mesh::generate::grid(1.0, 1.0, 12, 12);
+        let keypoints: Vec<u32> = (0..mesh.n_vertices() as u32).collect();
+        let identity: Vec<usize> = (0..mesh.n_vertices()).collect();
+        let positions = mesh.vertices();
+        assert_eq!(match_consistency(&mesh, &keypoints, 1.0, positions, &identity), 1.0);
+        assert_eq!(match_consistency(&mesh, &keypoints, 2.0, positions, &identity), 0.0);
+        let reversed: Vec<usize> = identity.iter().rev().copied().collect();
+        let scattered = match_consistency(&mesh, &keypoints, 1.0, positions, &reversed);
+        // Reversal is a point reflection of the square: it keeps distances.
+        assert_eq!(scattered, 1.0);
+        let shuffled: Vec<usize> = identity.iter().map(|&i| (i * 37 + 11) % identity.len()).collect();
+        let c = match_consistency(&mesh, &keypoints, 1.0, positions, &shuffled);
+        assert!(c < 0.3, "shuffled matches: consistency {c}");
+        // No pair farther apart than the SHOT radius: nothing to count.
+        assert_eq!(match_consistency(&mesh, &keypoints, 1e-3, positions, &identity), 0.0);
+    }
+
+    /// The cost falls with the descriptor distance and with the consistency.
+    #[test]
+    fn cost_prefers_near_and_consistent_matches() {
+        let h = |distance, consistency| Hypothesis { distance, consistency }.cost();
+        assert!(h(0.4, 0.2) < h(0.5, 0.2));
+        assert!(h(0.4, 0.3) < h(0.4, 0.2));
+        assert!(h(0.4, 0.0).is_finite());
+    }
+
     #[test]
     fn no_full_shape_descriptor_is_an_error() {
         let mesh = crate::mesh::generate::grid(1.0, 1.0, 3, 3);
-        assert!(estimate_scale(&Mat::zeros(0, 352), &mesh).is_err());
+        assert!(estimate_scale(&Mat::zeros(0, 352), &[], &mesh).is_err());
     }
 }

@@ -397,7 +397,7 @@ pub(super) fn partial_in_full_units(loc: &Localizer, partial: &TriMesh) -> Resul
         }
     }
     let factor = if options.scale == Scale::Auto {
-        let (_, s) = crate::alignment::scale::estimate_scale(&loc.level.coarse_descriptors, &scaled)?;
+        let (_, s) = crate::alignment::scale::estimate_scale(&loc.level.coarse_descriptors, loc.level.coarse.mesh().vertices(), &scaled)?;
         scaled = scaled.map_positions(|p| p.map(|c| c * s))?;
         s
     } else {
