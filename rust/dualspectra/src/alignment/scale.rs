@@ -28,6 +28,13 @@ const COARSE_STRIDE: usize = 2;
 /// The scan's second pass refines around this many of the first pass's lowest local minima
 /// (the descriptor distance can have a narrow dip beside a flat stretch).
 const REFINED_MINIMA: usize = 2;
+/// Support points a keypoint's SHOT ball holds at most (about) in the scan: the partial's
+/// cloud is thinned ([`shot::support_cloud`]) for the hypotheses whose radius would hold
+/// more. Only hypotheses of small area are thinned; on every dev pair the estimate is the
+/// same as with every vertex, in 0.5-0.7x the time (docs/benchmarks/options.md, `scale`).
+const SUPPORT_PER_KEYPOINT: f64 = 1000.0;
+/// Fewest points a thinned cloud keeps.
+const MIN_SUPPORT_CLOUD: f64 = 500.0;
 /// Partial keypoints described per hypothesis.
 const KEYPOINTS: usize = 200;
 
@@ -47,7 +54,12 @@ pub fn estimate_scale(full_descriptors: &Mat<f64>, full_positions: &[[f64; 3]], 
     let count = log_a.len();
     let hypothesis = |la: f64| -> Result<Hypothesis> {
         let s = (10f64.powf(la) / area).sqrt();
-        let d = shot::shot_keypoint_descriptors(partial, &keypoints, shot::DEFAULT_RADIUS_FRACTION / s, shot::DEFAULT_MIN_NEIGHBORS)?;
+        let radius = shot::DEFAULT_RADIUS_FRACTION / s;
+        // Expected support points per keypoint: n pi r^2 / A_N; the cloud is thinned to keep
+        // about SUPPORT_PER_KEYPOINT of them (only the small-area hypotheses, whose radius
+        // holds most of the partial).
+        let cloud = (SUPPORT_PER_KEYPOINT * area / (std::f64::consts::PI * radius * radius)).max(MIN_SUPPORT_CLOUD) as usize;
+        let d = shot::shot_keypoint_descriptors_thinned(partial, &keypoints, radius, shot::DEFAULT_MIN_NEIGHBORS, cloud)?;
         let (distances, matches) = nearest_rows(full_descriptors, &d);
         let distance = distances.iter().sum::<f64>() / distances.len() as f64;
         let consistency = match_consistency(partial, &keypoints, s, full_positions, &matches);

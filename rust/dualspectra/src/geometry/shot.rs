@@ -165,7 +165,7 @@ pub fn shot_points(
         )));
     }
     let all: Vec<u32> = (0..points.len() as u32).collect();
-    describe_keypoints(points, normals, &all, radius, min_neighbors)
+    describe_keypoints(points, normals, &all, radius, min_neighbors, MAX_SUPPORT_CLOUD)
 }
 
 /// SHOT of the `keypoints` of a mesh, each described by its support on the whole mesh (row
@@ -178,7 +178,24 @@ pub fn shot_keypoint_descriptors(mesh: &TriMesh, keypoints: &[u32], radius: f64,
         return Err(Error::InvalidArgument(format!("keypoint {k} out of range ({} vertices)", mesh.n_vertices())));
     }
     check_radius(radius)?;
-    Ok(describe_keypoints(mesh.vertices(), &vertex_normals(mesh), keypoints, radius, min_neighbors)?.descriptors)
+    Ok(describe_keypoints(mesh.vertices(), &vertex_normals(mesh), keypoints, radius, min_neighbors, MAX_SUPPORT_CLOUD)?.descriptors)
+}
+
+/// [`shot_keypoint_descriptors`] with the support cloud thinned to at most `max_cloud` points
+/// (at most [`MAX_SUPPORT_CLOUD`]; see [`support_cloud`]).
+pub(crate) fn shot_keypoint_descriptors_thinned(
+    mesh: &TriMesh,
+    keypoints: &[u32],
+    radius: f64,
+    min_neighbors: usize,
+    max_cloud: usize,
+) -> Result<Mat<f64>> {
+    if let Some(&k) = keypoints.iter().find(|&&k| k as usize >= mesh.n_vertices()) {
+        return Err(Error::InvalidArgument(format!("keypoint {k} out of range ({} vertices)", mesh.n_vertices())));
+    }
+    check_radius(radius)?;
+    let max_cloud = max_cloud.clamp(1, MAX_SUPPORT_CLOUD);
+    Ok(describe_keypoints(mesh.vertices(), &vertex_normals(mesh), keypoints, radius, min_neighbors, max_cloud)?.descriptors)
 }
 
 fn check_radius(radius: f64) -> Result<()> {
@@ -198,8 +215,9 @@ fn describe_keypoints(
     keypoints: &[u32],
     radius: f64,
     min_neighbors: usize,
+    max_cloud: usize,
 ) -> Result<Shot> {
-    let cloud = support_cloud(points, radius, MAX_SUPPORT_CLOUD);
+    let cloud = support_cloud(points, radius, max_cloud);
     let (cloud_points, cloud_normals): (Vec<[f64; 3]>, Vec<[f64; 3]>) = match &cloud {
         Some(kept) => kept.iter().map(|&i| (points[i as usize], normals[i as usize])).unzip(),
         None => (Vec::new(), Vec::new()),
@@ -498,7 +516,7 @@ mod tests {
         assert!(worst < 0.1, "farthest vertex from the cloud: {worst}");
         let normals = vertex_normals(&mesh);
         let all: Vec<u32> = (0..points.len() as u32).collect();
-        let full = describe_keypoints(points, &normals, &all, 0.5, 3).unwrap().descriptors;
+        let full = describe_keypoints(points, &normals, &all, 0.5, 3, MAX_SUPPORT_CLOUD).unwrap().descriptors;
         let thinned = {
             let cloud: Vec<[f64; 3]> = kept.iter().map(|&i| points[i as usize]).collect();
             let cloud_n: Vec<[f64; 3]> = kept.iter().map(|&i| normals[i as usize]).collect();
@@ -572,6 +590,26 @@ mod tests {
         // Frame is orthonormal and right-handed.
         let [x, y, z] = f.axes;
         assert!((dot(cross(x, y), z) - 1.0).abs() < 1e-14);
+    }
+
+    /// A cloud limit above the vertex count changes nothing; below it the support is thinned
+    /// (other, still unit, histograms; how close they stay is
+    /// `thinned_support_is_bounded_uniform_and_keeps_descriptors_close`); a keypoint out of
+    /// range is an error.
+    #[test]
+    fn thinned_support_keeps_the_descriptors() {
+        let mesh = crate::mesh::generate::grid(1.0, 1.0, 30, 30);
+        let keypoints: Vec<u32> = (0..mesh.n_vertices() as u32).step_by(37).collect();
+        let full = shot_keypoint_descriptors(&mesh, &keypoints, 0.4, 3).unwrap();
+        let same = shot_keypoint_descriptors_thinned(&mesh, &keypoints, 0.4, 3, 10_000).unwrap();
+        assert_eq!(full, same);
+        let thin = shot_keypoint_descriptors_thinned(&mesh, &keypoints, 0.4, 3, 300).unwrap();
+        assert_ne!(full, thin);
+        for i in 0..keypoints.len() {
+            let norm: f64 = (0..SHOT_DIM).map(|j| thin[(i, j)].powi(2)).sum::<f64>().sqrt();
+            assert!((norm - 1.0).abs() < 1e-9 || norm == 0.0, "row {i}: norm {norm}");
+        }
+        assert!(shot_keypoint_descriptors_thinned(&mesh, &[10_000], 0.4, 3, 300).is_err());
     }
 
     #[test]
