@@ -15,7 +15,7 @@
 
 use crate::error::{Error, Result};
 use crate::geometry::shot;
-use crate::mesh::TriMesh;
+use crate::mesh::{distance, TriMesh};
 use faer::Mat;
 
 /// Smallest area fraction considered: a partial of less than 1 % of the full shape carries too
@@ -46,6 +46,13 @@ pub fn estimate_scale(full_descriptors: &Mat<f64>, full_positions: &[[f64; 3]], 
     let area = partial.area();
     if !(area > 0.0 && area.is_finite()) || full_descriptors.nrows() == 0 {
         return Err(Error::InvalidArgument("scale = auto: no area or no full-shape descriptor to estimate the scale from".into()));
+    }
+    if full_positions.len() != full_descriptors.nrows() {
+        return Err(Error::InvalidArgument(format!(
+            "scale = auto: {} full-shape descriptors but {} positions",
+            full_descriptors.nrows(),
+            full_positions.len()
+        )));
     }
     let n = partial.n_vertices();
     let step = n.div_ceil(KEYPOINTS).max(1);
@@ -111,20 +118,18 @@ const CONSISTENT_LOG_RATIO: f64 = 0.2;
 /// SHOT radius $r_0$) whose distance $e$ is kept by their nearest-descriptor matches on the
 /// full shape (distance $f$): $|\ln(f/e)| <$ [`CONSISTENT_LOG_RATIO`]. Matches at the right
 /// scale are near their true places, so they keep the partial's distances; at a wrong scale
-/// they scatter.
+/// they scatter. `matches` index `full_positions`.
 fn match_consistency(partial: &TriMesh, keypoints: &[u32], s: f64, full_positions: &[[f64; 3]], matches: &[usize]) -> f64 {
     let pos = partial.vertices();
-    let length = |a: [f64; 3], b: [f64; 3]| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
     let (mut pairs, mut consistent) = (0usize, 0usize);
     for i in 0..keypoints.len() {
         for j in i + 1..keypoints.len() {
-            let e = s * length(pos[keypoints[i] as usize], pos[keypoints[j] as usize]);
+            let e = s * distance(pos[keypoints[i] as usize], pos[keypoints[j] as usize]);
             if e <= shot::DEFAULT_RADIUS_FRACTION {
                 continue;
             }
-            let (Some(&a), Some(&b)) = (full_positions.get(matches[i]), full_positions.get(matches[j])) else { continue };
             pairs += 1;
-            if (length(a, b) / e).ln().abs() < CONSISTENT_LOG_RATIO {
+            if (distance(full_positions[matches[i]], full_positions[matches[j]]) / e).ln().abs() < CONSISTENT_LOG_RATIO {
                 consistent += 1;
             }
         }
@@ -311,5 +316,7 @@ mod tests {
     fn no_full_shape_descriptor_is_an_error() {
         let mesh = crate::mesh::generate::grid(1.0, 1.0, 3, 3);
         assert!(estimate_scale(&Mat::zeros(0, 352), &[], &mesh).is_err());
+        // Descriptors without one position each.
+        assert!(estimate_scale(&Mat::zeros(2, 352), &[[0.0; 3]], &mesh).is_err());
     }
 }

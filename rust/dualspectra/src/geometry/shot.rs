@@ -174,11 +174,7 @@ pub fn shot_points(
 /// support at the data's resolution, as the partial shape's descriptors are. Errors as
 /// [`shot_descriptors`], and on a keypoint out of range.
 pub fn shot_keypoint_descriptors(mesh: &TriMesh, keypoints: &[u32], radius: f64, min_neighbors: usize) -> Result<Mat<f64>> {
-    if let Some(&k) = keypoints.iter().find(|&&k| k as usize >= mesh.n_vertices()) {
-        return Err(Error::InvalidArgument(format!("keypoint {k} out of range ({} vertices)", mesh.n_vertices())));
-    }
-    check_radius(radius)?;
-    Ok(describe_keypoints(mesh.vertices(), &vertex_normals(mesh), keypoints, radius, min_neighbors, MAX_SUPPORT_CLOUD)?.descriptors)
+    shot_keypoint_descriptors_thinned(mesh, keypoints, radius, min_neighbors, MAX_SUPPORT_CLOUD)
 }
 
 /// [`shot_keypoint_descriptors`] with the support cloud thinned to at most `max_cloud` points
