@@ -236,6 +236,31 @@ def test_batch_with_a_shortlist_localizes_only_the_shortlisted_pairs(
     assert [[batch_key(m) for m in r] for r in top] == [[batch_key(m) for m in r[:3]] for r in got]
 
 
+def test_batch_in_two_stages_ranks_as_the_search_does(prepared: List[ds.Localizer], partials: List[Mesh]) -> None:
+    """Shortlist 3 of 4 shapes: the batch localizes each shortlisted pair quickly, then the
+    best two again in full (a second round of tasks), as ``search`` does: the same order,
+    scores, regions, quick flags, screen scores and confidences."""
+    got = search_batch(partials, prepared, shortlist=3)
+    for p, ranking in zip(partials, got):
+        found = ds.search(p, prepared, shortlist=3)
+        assert [m.quick for m in found] == [False, False, True, False], "two in full, one quick, one screened out"
+        assert [(m.index, m.score, m.quick, m.screen_score) for m in ranking] == [
+            (m.index, m.score, m.quick, m.screen_score) for m in found
+        ]
+        for b, m in zip(ranking, found):
+            loc = m.localization
+            assert (b.region is None) == (loc is None)
+            if loc is not None:
+                assert b.region is not None and b.region.tobytes() == loc.region.tobytes()
+                assert (b.confidence, b.cost, b.search_confidence) == (loc.confidence, loc.cost, m.confidence)
+    # The quick localization is the core's: at most its effort (10 iterations, 2 plane cuts),
+    # so with these options (8 and 2) the same as the full one on the same pair.
+    quick = next(b for b in got[0] if b.quick)
+    full = search_batch(partials[:1], prepared, pairs=[(0, quick.index)])[0][0]
+    assert not full.quick and full.region is not None and quick.region is not None
+    assert (quick.score, quick.cost, quick.region.tobytes()) == (full.score, full.cost, full.region.tobytes())
+
+
 def test_batch_shortlist_within_pairs_and_from_files(
     tmp_path: Path, library: List[Mesh], partials: List[Mesh], prepared: List[ds.Localizer]
 ) -> None:

@@ -34,6 +34,9 @@ fn _dualspectra(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(search::search, m)?)?;
     m.add_function(wrap_pyfunction!(search::rank, m)?)?;
     m.add_function(wrap_pyfunction!(search::search_confidences, m)?)?;
+    m.add_function(wrap_pyfunction!(search::in_two_stages, m)?)?;
+    m.add_function(wrap_pyfunction!(search::shapes_to_refine, m)?)?;
+    m.add_function(wrap_pyfunction!(search::two_stage_order, m)?)?;
     m.add_function(wrap_pyfunction!(options::options_schema, m)?)?;
     m.add_function(wrap_pyfunction!(operators::cotangent_stiffness, m)?)?;
     m.add_function(wrap_pyfunction!(operators::lumped_mass, m)?)?;

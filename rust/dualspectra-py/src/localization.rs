@@ -355,6 +355,21 @@ impl Localizer {
         Localization::new(py, r, &self.host, self.notes_for(&partial))
     }
 
+    /// `locate` as a two-stage search's quick localization (`dualspectra::search::locate_quick`:
+    /// fewer starts and iterations), for batches that run the stages themselves.
+    fn locate_quick(
+        &self,
+        py: Python<'_>,
+        vertices: PyReadonlyArray2<'_, f64>,
+        faces: PyReadonlyArray2<'_, i64>,
+        progress: Option<Py<PyAny>>,
+    ) -> PyResult<Localization> {
+        check_callable(py, &progress)?;
+        let partial = intake("partial mesh", &vertices, &faces)?;
+        let r = with_progress(py, progress, |p| dualspectra::search::locate_quick(&self.inner, &partial.mesh, p))?;
+        Localization::new(py, r, &self.host, self.notes_for(&partial))
+    }
+
     /// Vertices of the caller's full mesh (the length of every per-vertex result).
     #[getter]
     fn n_vertices(&self) -> usize {

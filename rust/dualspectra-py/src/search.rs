@@ -231,3 +231,24 @@ pub fn rank(scored: Vec<(f64, usize)>, top: Option<usize>) -> Vec<usize> {
 pub fn search_confidences(located: Vec<(f64, f64)>) -> Vec<f64> {
     dualspectra::search::search_confidences(&located)
 }
+
+/// Native `in_two_stages`: `dualspectra::search::in_two_stages`, whether a screened search of
+/// `shortlist` shapes of `library` ranks them quickly first (`search_batch`).
+#[pyfunction]
+pub fn in_two_stages(shortlist: usize, library: usize) -> bool {
+    dualspectra::search::in_two_stages(shortlist, library)
+}
+
+/// Native `shapes_to_refine`: `dualspectra::search::shapes_to_refine`, the full shape indices
+/// of a quick ranking's `(score, index)` pairs to localize again in full (`search_batch`).
+#[pyfunction]
+pub fn shapes_to_refine(quick: Vec<(f64, usize)>) -> Vec<usize> {
+    dualspectra::search::shapes_to_refine(&quick)
+}
+
+/// Native `two_stage_order`: `dualspectra::search::two_stage_order`, the answer's order of a
+/// two-stage search as `(quick, position)` pairs (`search_batch`).
+#[pyfunction]
+pub fn two_stage_order(full: Vec<(f64, usize)>, quick: Vec<(f64, usize)>) -> Vec<(bool, usize)> {
+    dualspectra::search::two_stage_order(&full, &quick)
+}

@@ -29,7 +29,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         None => Options::default(),
     };
     let show = |x: Option<f64>| x.map_or("-".to_string(), |v| format!("{v:.4}"));
-    println!("pair label cost descriptor_score region_cost boundary_misfit partial_fit vote_share iou_sym chosen evaluations history");
+    println!("pair label cost descriptor_score region_cost boundary_misfit partial_fit vote_share iou_sym chosen evaluations history closest_earlier");
     let mut prepared: HashMap<std::path::PathBuf, Localizer> = HashMap::new();
     for pair in Dataset::open(root)?.pairs()?.iter().skip(offset).step_by(stride) {
         let data = pair.load()?;
@@ -45,7 +45,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             };
             let s = c.scores;
             println!(
-                "{} {} {:.4e} {} {} {} {} {} {iou:.3} {} {} {}",
+                "{} {} {:.4e} {} {} {} {} {} {iou:.3} {} {} {} {}",
                 pair.name,
                 c.label,
                 c.cost,
@@ -56,9 +56,27 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 show(s.vote_share),
                 if i == found.selected_start { "*" } else { "-" },
                 c.evaluations,
-                c.cost_history.iter().map(|h| format!("{h:.4e}")).collect::<Vec<_>>().join(",")
+                c.cost_history.iter().map(|h| format!("{h:.4e}")).collect::<Vec<_>>().join(","),
+                closest_earlier(&found.candidates, i)
             );
         }
     }
     Ok(())
+}
+
+/// The earlier candidate whose full-shape region is closest to candidate `i`'s, as
+/// `index:IoU` (`-` for the first): how many starts end in the same region.
+fn closest_earlier(candidates: &[dualspectra::Candidate], i: usize) -> String {
+    let iou = |a: &[bool], b: &[bool]| {
+        let (mut both, mut any) = (0usize, 0usize);
+        for (x, y) in a.iter().zip(b) {
+            both += (*x && *y) as usize;
+            any += (*x || *y) as usize;
+        }
+        both as f64 / any.max(1) as f64
+    };
+    (0..i)
+        .map(|j| (j, iou(&candidates[i].region, &candidates[j].region)))
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .map_or("-".to_string(), |(j, v)| format!("{j}:{v:.3}"))
 }

@@ -23,6 +23,9 @@ __all__ = [
     "search",
     "rank",
     "search_confidences",
+    "in_two_stages",
+    "shapes_to_refine",
+    "two_stage_order",
     "options_schema",
     "cotangent_stiffness",
     "lumped_mass",
@@ -161,6 +164,9 @@ class Localizer:
     def locate(
         self, vertices: NDArray[np.float64], faces: NDArray[np.int64], progress: _Progress = None
     ) -> Localization: ...
+    def locate_quick(
+        self, vertices: NDArray[np.float64], faces: NDArray[np.int64], progress: _Progress = None
+    ) -> Localization: ...
     @property
     def n_vertices(self) -> int:
         """Vertices of the caller's full mesh."""
@@ -275,6 +281,9 @@ def search(
 ) -> Tuple[List[Match], List[List[str]]]: ...
 def rank(scored: Sequence[Tuple[float, int]], top: Optional[int] = None) -> List[int]: ...
 def search_confidences(located: Sequence[Tuple[float, float]]) -> List[float]: ...
+def in_two_stages(shortlist: int, library: int) -> bool: ...
+def shapes_to_refine(quick: Sequence[Tuple[float, int]]) -> List[int]: ...
+def two_stage_order(full: Sequence[Tuple[float, int]], quick: Sequence[Tuple[float, int]]) -> List[Tuple[bool, int]]: ...
 def options_schema() -> List[Dict[str, Any]]: ...
 def spectrum(
     vertices: NDArray[np.float64], faces: NDArray[np.int64], k: int, metric: str, alpha: float

@@ -11,9 +11,12 @@ Every number comes from the core; this module only distributes the calls and sor
 With a ``shortlist`` (or a prebuilt :class:`~dualspectra.Screen`), each partial is first
 ranked here by the library's screen and only its ``shortlist`` best (partial, full shape)
 pairs become work for the tasks; the others are listed after the localized shapes, screened
-out (as :func:`dualspectra.search` lists them). Each shortlisted pair is localized in full:
-unlike :func:`dualspectra.search`, a batch does not localize its shortlist quickly first, so a
-shortlist of N costs N full localizations per partial.
+out (as :func:`dualspectra.search` lists them). As in :func:`dualspectra.search`, a shortlist
+shorter than the library and longer than two is localized in two stages: every shortlisted
+pair quickly (fewer starts and iterations; :attr:`BatchMatch.quick`), then the two best of
+each partial's quick ranking again in full, in a second round of tasks. The core decides
+which pairs and in what order (``in_two_stages``, ``shapes_to_refine``,
+``two_stage_order``), so a batch ranks as :func:`dualspectra.search` does.
 
 ``client=None`` runs the tasks one after the other here, without importing Dask; a
 ``dask.distributed.Client`` runs them on its workers (each needs the ``dualspectra`` wheel
@@ -107,6 +110,9 @@ class BatchMatch:
     #: of its ranking (:attr:`dualspectra.Match.confidence`: the core's ``search_confidences``
     #: among the located ones); ``None`` when not located.
     search_confidence: Optional[float] = None
+    #: Whether ``region`` is a two-stage search's quick localization (fewer starts and
+    #: iterations, ranking the shortlist) rather than a full one (:attr:`dualspectra.Match.quick`).
+    quick: bool = False
 
 
 # glibc's mallopt parameters (malloc.h).
@@ -147,11 +153,12 @@ def _unhurried_malloc() -> Iterator[None]:
 def _locate_on_full(
     index: int,
     full: FullShape,
-    partials: Sequence[Tuple[int, _Mesh]],
+    partials: Sequence[Tuple[int, _Mesh, bool]],
     options: Dict[str, OptionValue],
     progress: Optional[ProgressCallback] = None,
 ) -> List[BatchMatch]:
-    """One task: prepare (or load) the full shape ``index`` once and locate every partial on it.
+    """One task: prepare (or load) the full shape ``index`` once and locate every partial
+    ``(i, mesh, quick)`` on it, quickly (the core's ``locate_quick``) where ``quick``.
 
     A partial the core cannot locate on this shape (``ValueError``, ``NumericalError``)
     becomes a match with its ``error``; an invalid mesh (``MeshError``) or cancelling
@@ -161,10 +168,13 @@ def _locate_on_full(
     with warnings.catch_warnings(), _unhurried_malloc():
         warnings.simplefilter("ignore", DualspectraWarning)
         localizer = _prepared(full, options)
-        for k, (i, (vertices, faces)) in enumerate(partials):
+        for k, (i, (vertices, faces), quick) in enumerate(partials):
             part = _span(progress, k / len(partials), (k + 1) / len(partials))
             try:
-                found = localizer.locate(vertices, faces, progress=part)
+                if quick:
+                    found = localizer._native.locate_quick(vertices, faces, part)
+                else:
+                    found = localizer.locate(vertices, faces, progress=part)
             except MeshError:
                 raise
             except (ValueError, NumericalError) as exc:
@@ -172,7 +182,15 @@ def _locate_on_full(
                 continue
             out.append(
                 BatchMatch(
-                    i, index, found.similarity_score, found.region, found.confidence, found.cost, found.warnings, None
+                    i,
+                    index,
+                    found.similarity_score,
+                    found.region,
+                    found.confidence,
+                    found.cost,
+                    found.warnings,
+                    None,
+                    quick=quick,
                 )
             )
     return out
@@ -220,6 +238,9 @@ def search_batch(
             partial against every full shape); a partial is then ranked among its pairs.
         shortlist: locate each partial on the ``shortlist`` full shapes (among its pairs)
             that the library's screen ranks best only (default: on every one, no screen).
+            A shortlist shorter than the full shapes and longer than two is localized in
+            two stages, as by :func:`dualspectra.search`: quickly, then the two best again
+            in full (the others keep their quick localization, :attr:`BatchMatch.quick`).
             The screen ranks the partials here, before the tasks start; the shapes it leaves
             out follow the localized ones in the partial's ranking, in screen order, with
             ``score = inf`` and their ``screen_score``. It uses the ``scale`` option given,
@@ -266,6 +287,7 @@ def search_batch(
     tasks = _tasks(len(meshes), len(checked), pairs)
     screened_out: List[List[BatchMatch]] = [[] for _ in meshes]
     scores: Dict[Tuple[int, int], float] = {}
+    two_stage: Set[int] = set()
     if screening:
         if screen is None:
             screen = _library_screen(checked, _span(progress, 0.0, 0.05))
@@ -273,26 +295,64 @@ def search_batch(
         ranked = _rank_by_screen(screen, meshes, tasks, scale, _span(progress, 0.05, 0.1))
         kept: List[Tuple[int, int]] = []
         for i, order in enumerate(ranked):
-            for place, (j, score) in enumerate(order):
-                if shortlist is None or place < shortlist:
-                    kept.append((i, j))
-                    scores[(i, j)] = score
-                else:
-                    screened_out[i].append(BatchMatch(i, j, math.inf, None, None, None, (), None, score))
+            chosen = order if shortlist is None else order[:shortlist]
+            if _dualspectra.in_two_stages(len(chosen), len(order)):
+                two_stage.add(i)
+            for j, score in chosen:
+                kept.append((i, j))
+                scores[(i, j)] = score
+            screened_out[i] = [BatchMatch(i, j, math.inf, None, None, None, (), None, score) for j, score in order[len(chosen) :]]
         tasks = _tasks(len(meshes), len(checked), kept)
         progress = _span(progress, 0.1, 1.0)
+    # The first round: every pair, quick for the partials searched in two stages; the second:
+    # the pairs the core picks from those quick rankings, in full.
+    quick_share = sum(_QUICK_COST if i in two_stage else 1.0 for w in tasks.values() for i in w)
+    refined_share = 2.0 * len(two_stage)
+    split = quick_share / max(quick_share + refined_share, 1e-9)
+    first = _run(client, tasks, checked, meshes, two_stage, options, _span(progress, 0.0, split))
+    by_partial: List[List[BatchMatch]] = [[] for _ in meshes]
+    for m in first:
+        by_partial[m.partial].append(m)
+    refine = {i: _dualspectra.shapes_to_refine([(m.score, m.index) for m in by_partial[i]]) for i in sorted(two_stage)}
+    second = _run(
+        client, _tasks(len(meshes), len(checked), [(i, j) for i, js in refine.items() for j in js]), checked, meshes, set(),
+        options, _span(progress, split, 1.0),
+    )
+    refined: List[List[BatchMatch]] = [[] for _ in meshes]
+    for m in second:
+        refined[m.partial].append(m)
+    rankings: List[List[BatchMatch]] = []
+    for i, found in enumerate(by_partial):
+        if i in two_stage:
+            full = refined[i]
+            stages = _dualspectra.two_stage_order([(m.score, m.index) for m in full], [(m.score, m.index) for m in found])
+            ranking = [found[at] if quick else full[at] for quick, at in stages]
+        else:
+            ranking = [found[at] for at in _dualspectra.rank([(m.score, m.index) for m in found])]
+        ranking = [m if (m.partial, m.index) not in scores else replace(m, screen_score=scores[(m.partial, m.index)]) for m in ranking]
+        rankings.append(_with_search_confidences(ranking))
+    return [(r + out)[:top] for r, out in zip(rankings, screened_out)]
+
+
+#: Time of a quick localization over a full one, for splitting progress between the rounds.
+_QUICK_COST = 0.4
+
+
+def _run(
+    client: Optional[Client],
+    tasks: Dict[int, List[int]],
+    fulls: List[FullShape],
+    meshes: List[_Mesh],
+    quick: Set[int],
+    options: Dict[str, OptionValue],
+    progress: Optional[ProgressCallback],
+) -> List[BatchMatch]:
+    """Every match of ``tasks`` (partials in ``quick`` located quickly), here or on ``client``."""
     if client is None:
-        results = _run_here(tasks, checked, meshes, options, progress)
+        results = _run_here(tasks, fulls, meshes, quick, options, progress)
     else:
-        results = _run_on(client, tasks, checked, meshes, options, progress)
-    rankings: List[List[BatchMatch]] = [[] for _ in meshes]
-    for matches in results:
-        for m in matches:
-            screen_score = scores.get((m.partial, m.index))
-            rankings[m.partial].append(m if screen_score is None else replace(m, screen_score=screen_score))
-    ordered = [[r[i] for i in _dualspectra.rank([(m.score, m.index) for m in r])] for r in rankings]
-    ordered = [_with_search_confidences(r) for r in ordered]
-    return [(r + out)[:top] for r, out in zip(ordered, screened_out)]
+        results = _run_on(client, tasks, fulls, meshes, quick, options, progress)
+    return [m for matches in results for m in matches]
 
 
 def _with_search_confidences(ranking: List[BatchMatch]) -> List[BatchMatch]:
@@ -338,6 +398,7 @@ def _run_here(
     tasks: Dict[int, List[int]],
     fulls: List[FullShape],
     meshes: List[_Mesh],
+    quick: Set[int],
     options: Dict[str, OptionValue],
     progress: Optional[ProgressCallback],
 ) -> List[List[BatchMatch]]:
@@ -345,7 +406,7 @@ def _run_here(
     results = []
     for t, (j, wanted) in enumerate(tasks.items()):
         part = _span(progress, t / len(tasks), (t + 1) / len(tasks))
-        results.append(_locate_on_full(j, fulls[j], [(i, meshes[i]) for i in wanted], options, part))
+        results.append(_locate_on_full(j, fulls[j], [(i, meshes[i], i in quick) for i in wanted], options, part))
     return results
 
 
@@ -354,6 +415,7 @@ def _run_on(
     tasks: Dict[int, List[int]],
     fulls: List[FullShape],
     meshes: List[_Mesh],
+    quick: Set[int],
     options: Dict[str, OptionValue],
     progress: Optional[ProgressCallback],
 ) -> List[List[BatchMatch]]:
@@ -369,7 +431,7 @@ def _run_on(
             _locate_on_full,
             j,
             fulls[j],
-            [(i, scattered[i]) for i in wanted],
+            [(i, scattered[i], i in quick) for i in wanted],
             options,
             pure=False,
         )

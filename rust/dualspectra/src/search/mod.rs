@@ -201,17 +201,16 @@ where
     }
     let screened = screen.rank(partial, scale, &progress.sub(0.0, 0.05))?;
     let chosen: Vec<usize> = screened.iter().take(shortlist).map(|r| r.0).collect();
-    let mut found = if chosen.len() > REFINED_SHAPES && chosen.len() < screened.len() {
+    let mut found = if in_two_stages(chosen.len(), screened.len()) {
         let ranking_share = RANKING_COST * chosen.len() as f64;
         let split = 0.05 + 0.95 * ranking_share / (ranking_share + REFINED_SHAPES as f64);
         let Pass { kept: quick, first_error, .. } = locate_each(partial, &chosen, &mut open, Some(RANKING_EFFORT), usize::MAX, &progress.sub(0.05, split))?;
         every_shape_failed(&quick, first_error)?;
-        let best: Vec<usize> = quick.iter().take(REFINED_SHAPES).filter(|m| m.localization.is_some()).map(|m| m.index).collect();
+        let best = shapes_to_refine(&scored(&quick));
         let Pass { kept: full, .. } = locate_each(partial, &best, &mut open, None, usize::MAX, &progress.sub(split, 1.0))?;
-        // A shape whose full localization failed keeps its quick one, in the quick order.
-        let full: Vec<Match> = full.into_iter().filter(|m| m.localization.is_some()).collect();
-        let refined: Vec<usize> = full.iter().map(|m| m.index).collect();
-        full.into_iter().chain(quick.into_iter().filter(|q| !refined.contains(&q.index))).collect()
+        let order = two_stage_order(&scored(&full), &scored(&quick));
+        let (mut full, mut quick): (Vec<Option<Match>>, Vec<Option<Match>>) = (full.into_iter().map(Some).collect(), quick.into_iter().map(Some).collect());
+        order.into_iter().filter_map(|(is_quick, at)| if is_quick { quick[at].take() } else { full[at].take() }).collect()
     } else {
         let Pass { kept: found, first_error, .. } = locate_each(partial, &chosen, &mut open, None, usize::MAX, &progress.sub(0.05, 1.0))?;
         every_shape_failed(&found, first_error)?;
@@ -235,6 +234,45 @@ where
     found.truncate(top);
     progress.report(1.0, "searched")?;
     Ok(found)
+}
+
+/// `(score, index)` of each match, `+inf` for a shape not located (the input of
+/// [`shapes_to_refine`] and [`two_stage_order`]).
+fn scored(matches: &[Match]) -> Vec<(f64, usize)> {
+    matches.iter().map(|m| (if m.localization.is_some() { m.score } else { f64::INFINITY }, m.index)).collect()
+}
+
+/// Whether a screened search localizes its `shortlist` shapes (of `library`) in two stages
+/// ([`search_screened`]): a shortlist shorter than the library and longer than the
+/// [`REFINED_SHAPES`] localized again in full; otherwise each is localized once, in full.
+pub fn in_two_stages(shortlist: usize, library: usize) -> bool {
+    shortlist > REFINED_SHAPES && shortlist < library
+}
+
+/// A two-stage search's quick localization of `partial` on `shape` ([`Match::quick`]: fewer
+/// starts and iterations than the localizer's options), which ranks the shortlist: for front
+/// ends that run the stages themselves (a batch of searches split per full shape).
+pub fn locate_quick(shape: &Localizer, partial: &TriMesh, progress: &Progress) -> Result<Localization> {
+    shape.locate_with_effort(partial, RANKING_EFFORT, progress)
+}
+
+/// The full shapes a two-stage search localizes again in full, from the quick ranking's
+/// `(similarity score, full shape index)` pairs (`+inf`: not located): the indices of the
+/// [`REFINED_SHAPES`] best, in ranking order, those not located left out.
+pub fn shapes_to_refine(quick: &[(f64, usize)]) -> Vec<usize> {
+    rank(quick, REFINED_SHAPES).into_iter().filter(|&i| quick[i].0.is_finite()).map(|i| quick[i].1).collect()
+}
+
+/// The answer's order of a two-stage search from its full and quick localizations'
+/// `(similarity score, full shape index)` pairs (`+inf`: not located): the shapes located in
+/// full by score, then the quick ones in their ranking order, less those located in full (a
+/// shape whose full localization failed keeps its quick one). Each entry is `(quick,
+/// position)`: a position in `quick` or in `full`.
+pub fn two_stage_order(full: &[(f64, usize)], quick: &[(f64, usize)]) -> Vec<(bool, usize)> {
+    let located: Vec<usize> = rank(full, usize::MAX).into_iter().filter(|&i| full[i].0.is_finite()).collect();
+    let refined: Vec<usize> = located.iter().map(|&i| full[i].1).collect();
+    let rest = rank(quick, usize::MAX).into_iter().filter(|&i| !refined.contains(&quick[i].1));
+    located.into_iter().map(|i| (false, i)).chain(rest.map(|i| (true, i))).collect()
 }
 
 /// [`search`] with a shortlist: with `shortlist` below `fulls.len()`, a screen of the shapes'
@@ -344,4 +382,37 @@ pub fn rank(scored: &[(f64, usize)], top: usize) -> Vec<usize> {
     order.sort_by(|&a, &b| ranking_order(scored[a], scored[b]));
     order.truncate(top);
     order
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn two_stages_only_for_a_shortlist_between_the_refined_shapes_and_the_library() {
+        assert!(!in_two_stages(REFINED_SHAPES, 10));
+        assert!(in_two_stages(REFINED_SHAPES + 1, 10));
+        assert!(!in_two_stages(10, 10));
+    }
+
+    #[test]
+    fn the_best_located_quick_shapes_are_refined() {
+        // Ranking order by score, ties by index; a shape not located is never refined.
+        let quick = [(0.5, 7), (0.2, 3), (f64::INFINITY, 1), (0.2, 9), (0.9, 4)];
+        assert_eq!(shapes_to_refine(&quick), vec![3, 9]);
+        assert_eq!(shapes_to_refine(&[(f64::INFINITY, 0), (0.4, 2)]), vec![2]);
+        assert!(shapes_to_refine(&[(f64::INFINITY, 0)]).is_empty());
+    }
+
+    #[test]
+    fn the_full_localizations_come_first_then_the_quick_ones_not_refined() {
+        let quick = [(0.5, 7), (0.2, 3), (f64::INFINITY, 1), (0.3, 9)];
+        // 3 was refined to a worse score than 9's; 9's full localization failed.
+        let full = [(f64::INFINITY, 9), (0.6, 3)];
+        let order = two_stage_order(&full, &quick);
+        let indices: Vec<usize> = order.iter().map(|&(q, at)| if q { quick[at].1 } else { full[at].1 }).collect();
+        assert_eq!(indices, vec![3, 9, 7, 1]);
+        assert_eq!(order[0], (false, 1));
+        assert!(order[1..].iter().all(|&(q, _)| q), "9 keeps its quick localization");
+    }
 }
