@@ -31,18 +31,11 @@ pub const PROJECTION_EIGENFUNCTIONS: usize = 5;
 /// $(\Phi^{\circ 2})^\top \mathrm{diag}(m) D$: a `k x d` matrix. Rows of `vectors`, `mass` and `desc` match.
 pub fn descriptor_projection(vectors: MatRef<'_, f64>, mass: &[f64], desc: &Mat<f64>) -> Mat<f64> {
     let (n, k, d) = (vectors.nrows(), vectors.ncols(), desc.ncols());
+    // (phi^2 .* m)^T D as one matrix product (the descriptors column-major: a loop over
+    // them row by row strides through memory).
+    let weights = Mat::<f64>::from_fn(n, k, |i, j| vectors[(i, j)].powi(2) * mass[i]);
     let mut out = Mat::<f64>::zeros(k, d);
-    for j in 0..k {
-        for i in 0..n {
-            let w = vectors[(i, j)].powi(2) * mass[i];
-            if w == 0.0 {
-                continue;
-            }
-            for c in 0..d {
-                out[(j, c)] += w * desc[(i, c)];
-            }
-        }
-    }
+    faer::linalg::matmul::matmul(out.as_mut(), faer::Accum::Replace, weights.transpose(), desc.as_ref(), 1.0, faer::Par::Seq);
     out
 }
 
@@ -237,9 +230,11 @@ pub fn partial_fits(d_full: &Mat<f64>, d_part: &Mat<f64>, regions: &[&[bool]]) -
         let b2: Vec<f64> = (0..cols).map(|j| (0..d).map(|c| block[(j, c)].powi(2)).sum()).collect();
         for (region, best) in regions.iter().zip(&mut nearest) {
             let inside: Vec<usize> = (0..cols).filter(|&j| region[start + j]).collect();
-            for (i, b) in best.iter_mut().enumerate() {
-                for &j in &inside {
-                    *b = b.min(a2[i] + b2[j] - 2.0 * dot[(i, j)]);
+            // Column by column (the products are column-major); a minimum is exact in any order.
+            for &j in &inside {
+                let column = dot.col(j);
+                for (i, b) in best.iter_mut().enumerate() {
+                    *b = b.min(a2[i] + b2[j] - 2.0 * column[i]);
                 }
             }
         }
@@ -448,6 +443,21 @@ fn restrict_rows(m: &Mat<f64>, rows: &[u32]) -> Mat<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn descriptor_projection_is_the_mass_weighted_sum_of_squared_eigenfunctions() {
+        let (n, k, d) = (37, 3, 11);
+        let phi = Mat::<f64>::from_fn(n, k, |i, j| ((i * 7 + j * 3) as f64).sin());
+        let mass: Vec<f64> = (0..n).map(|i| 0.5 + (i % 5) as f64 * 0.1).collect();
+        let desc = Mat::<f64>::from_fn(n, d, |i, c| ((i + 2 * c) as f64).cos());
+        let out = descriptor_projection(phi.as_ref(), &mass, &desc);
+        for j in 0..k {
+            for c in 0..d {
+                let want: f64 = (0..n).map(|i| phi[(i, j)].powi(2) * mass[i] * desc[(i, c)]).sum();
+                assert!((out[(j, c)] - want).abs() < 1e-12 * (1.0 + want.abs()), "({j}, {c}): {} against {want}", out[(j, c)]);
+            }
+        }
+    }
 
     #[test]
     fn agreement_counts_overlapping_starts_and_the_margin_to_the_best_other_answer() {

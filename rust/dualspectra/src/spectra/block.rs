@@ -78,12 +78,24 @@ fn block(buf: &Mat<f64>, ncols: usize) -> MatRef<'_, f64> {
     buf.as_ref().subcols(0, ncols)
 }
 
+/// Column `j` of a block as a slice (the blocks here are column-major, their columns
+/// contiguous): loops over it index a slice instead of a strided view.
+fn column(a: MatRef<'_, f64>, j: usize) -> &[f64] {
+    a.col(j).try_as_col_major().expect("column-major block").as_slice()
+}
+
+/// Column `j` of a block as a mutable slice ([`column`]).
+fn column_mut(a: MatMut<'_, f64>, j: usize) -> &mut [f64] {
+    a.col_mut(j).try_as_col_major_mut().expect("column-major block").as_slice_mut()
+}
+
 /// `out = H x = W x + (m v) .* x`.
 fn h_mul(factor: &ShiftedFactor, mv: &[f64], x: MatRef<'_, f64>, mut out: MatMut<'_, f64>) {
     factor.w_mul(out.rb_mut(), x);
     for c in 0..x.ncols() {
-        for i in 0..x.nrows() {
-            out[(i, c)] += mv[i] * x[(i, c)];
+        let (xc, oc) = (column(x, c), column_mut(out.rb_mut(), c));
+        for i in 0..xc.len() {
+            oc[i] += mv[i] * xc[i];
         }
     }
 }
@@ -118,8 +130,9 @@ fn rayleigh_ritz(
     let (n, m) = (s.nrows(), s.ncols());
     let mut ms = block_mut(ms_buf, n, m);
     for j in 0..m {
+        let (sj, msj) = (column(s, j), column_mut(ms.rb_mut(), j));
         for i in 0..n {
-            ms[(i, j)] = mass[i] * s[(i, j)];
+            msj[i] = mass[i] * sj[i];
         }
     }
     let g = mat_tr_mul(s, ms.as_ref());
@@ -218,9 +231,11 @@ pub(crate) fn refine(
         let mut active = Vec::new();
         for j in 0..nr {
             let mut s2 = 0.0;
+            let (xj, hxj) = (column(x, j), column(hx, j));
+            let rj = column_mut(r.rb_mut(), j);
             for i in 0..n {
-                let ri = hx[(i, j)] - mass[i] * lambda[j] * x[(i, j)];
-                r[(i, j)] = ri;
+                let ri = hxj[i] - mass[i] * lambda[j] * xj[i];
+                rj[i] = ri;
                 s2 += ri * ri / mass[i];
             }
             if s2.sqrt() / (lambda[j].abs() + sigma.abs()) > target {

@@ -211,28 +211,41 @@ impl ShiftedFactor {
     pub(crate) fn w_mul(&self, mut out: MatMut<'_, f64>, x: faer::MatRef<'_, f64>) {
         let col_ptr = self.shared.pattern.col_ptr();
         let row_idx = self.shared.pattern.row_idx();
-        let mut xbuf = vec![0.0; self.shared.n];
-        let mut obuf = vec![0.0; self.shared.n];
-        for c in 0..x.ncols() {
-            // Contiguous copies: the loop below indexes slices (bounds checks hoisted) instead
-            // of strided faer columns.
-            for (xi, v) in xbuf.iter_mut().zip(x.col(c).iter()) {
-                *xi = *v;
+        let values = &self.shared.w_values;
+        let (n, b) = (self.shared.n, x.ncols());
+        // The block row-major (vertex by vertex, its `b` columns side by side), so that each
+        // stored entry of W updates `b` contiguous values; every output entry sums the same
+        // terms in the same order as a column-by-column product (the same bits).
+        let mut rows = vec![0.0; n * b];
+        for c in 0..b {
+            for (i, v) in x.col(c).iter().enumerate() {
+                rows[i * b + c] = *v;
             }
-            obuf.fill(0.0);
-            for j in 0..self.shared.n {
-                let xj = xbuf[j];
-                let (s, e) = (col_ptr[j], col_ptr[j + 1]);
-                // Diagonal first.
-                let mut acc = self.shared.w_values[s] * xj;
-                for (&i, &v) in row_idx[s + 1..e].iter().zip(&self.shared.w_values[s + 1..e]) {
-                    obuf[i] += v * xj;
-                    acc += v * xbuf[i];
+        }
+        let mut products = vec![0.0; n * b];
+        let mut acc = vec![0.0; b];
+        for j in 0..n {
+            let (s, e) = (col_ptr[j], col_ptr[j + 1]);
+            let xj = &rows[j * b..(j + 1) * b];
+            // Diagonal first.
+            for (a, v) in acc.iter_mut().zip(xj) {
+                *a = values[s] * v;
+            }
+            for (&i, &w) in row_idx[s + 1..e].iter().zip(&values[s + 1..e]) {
+                let xi = &rows[i * b..(i + 1) * b];
+                let oi = &mut products[i * b..(i + 1) * b];
+                for c in 0..b {
+                    oi[c] += w * xj[c];
+                    acc[c] += w * xi[c];
                 }
-                obuf[j] += acc;
             }
-            for (o, v) in out.rb_mut().col_mut(c).iter_mut().zip(&obuf) {
-                *o = *v;
+            for (o, a) in products[j * b..(j + 1) * b].iter_mut().zip(&acc) {
+                *o += a;
+            }
+        }
+        for c in 0..b {
+            for (i, o) in out.rb_mut().col_mut(c).iter_mut().enumerate() {
+                *o = products[i * b + c];
             }
         }
     }
@@ -291,5 +304,44 @@ impl ShiftedFactor {
             }
         }
         Some(negative)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use faer::Mat;
+
+    /// A symmetric `W` with irregular rows: a ring of `n` vertices, each also joined to the
+    /// vertex `n / 3` ahead, with weights that differ edge by edge.
+    fn irregular(n: usize) -> crate::operators::SparseMatrix {
+        use faer::sparse::Triplet;
+        let mut trip = Vec::new();
+        for i in 0..n {
+            for (j, w) in [((i + 1) % n, 1.0 + (i % 7) as f64 * 0.3), ((i + n / 3) % n, 0.25 + (i % 3) as f64 * 0.1)] {
+                trip.extend([Triplet::new(i, j, -w), Triplet::new(j, i, -w), Triplet::new(i, i, w), Triplet::new(j, j, w)]);
+            }
+        }
+        crate::operators::SparseMatrix::try_new_from_triplets(n, n, &trip).expect("valid triplets")
+    }
+
+    #[test]
+    fn w_mul_is_the_symmetric_product_and_a_block_gives_each_column_s_bits() {
+        let n = 41;
+        let w = irregular(n);
+        let factor = ShiftedFactor::new(&w).expect("symmetric");
+        let x = Mat::<f64>::from_fn(n, 5, |i, c| ((3 * i + 11 * c) as f64).sin());
+        let mut block = Mat::<f64>::zeros(n, 5);
+        factor.w_mul(block.as_mut(), x.as_ref());
+        let dense = w.to_dense();
+        for c in 0..5 {
+            let mut alone = Mat::<f64>::zeros(n, 1);
+            factor.w_mul(alone.as_mut(), x.as_ref().subcols(c, 1));
+            for i in 0..n {
+                assert_eq!(block[(i, c)].to_bits(), alone[(i, 0)].to_bits(), "({i}, {c})");
+                let want: f64 = (0..n).map(|j| dense[(i, j)] * x[(j, c)]).sum();
+                assert!((block[(i, c)] - want).abs() < 1e-12, "({i}, {c}): {} against {want}", block[(i, c)]);
+            }
+        }
     }
 }
