@@ -89,6 +89,20 @@ fn column_mut(a: MatMut<'_, f64>, j: usize) -> &mut [f64] {
     a.col_mut(j).try_as_col_major_mut().expect("column-major block").as_slice_mut()
 }
 
+/// $\sum_i r_i^2 w_i$ in four interleaved partial sums: a single running sum waits on each
+/// addition in turn (the residual norms of [`refine`] were a tenth of a localization's time).
+fn weighted_squares(r: &[f64], w: &[f64]) -> f64 {
+    let mut acc = [0.0; 4];
+    let (rc, wc) = (r.chunks_exact(4), w.chunks_exact(4));
+    let tail: f64 = rc.remainder().iter().zip(wc.remainder()).map(|(a, b)| a * a * b).sum();
+    for (a, b) in rc.zip(wc) {
+        for l in 0..4 {
+            acc[l] += a[l] * a[l] * b[l];
+        }
+    }
+    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
+}
+
 /// `out = H x = W x + (m v) .* x`.
 fn h_mul(factor: &ShiftedFactor, mv: &[f64], x: MatRef<'_, f64>, mut out: MatMut<'_, f64>) {
     factor.w_mul(out.rb_mut(), x);
@@ -212,6 +226,7 @@ pub(crate) fn refine(
     let (n, k) = (x0.nrows(), x0.ncols());
     let nr = wanted.min(k);
     let mv: Vec<f64> = mass.iter().zip(potential).map(|(m, v)| m * v).collect();
+    let inv_mass: Vec<f64> = mass.iter().map(|m| 1.0 / m).collect();
     let mut solve_mem = MemBuffer::new(factor.solve_scratch(nr));
 
     // S = X0 at the start: H X0 goes in the HS buffer.
@@ -230,14 +245,12 @@ pub(crate) fn refine(
         let (x, hx) = (block(&ws.x, k), block(&ws.hx, k));
         let mut active = Vec::new();
         for j in 0..nr {
-            let mut s2 = 0.0;
             let (xj, hxj) = (column(x, j), column(hx, j));
             let rj = column_mut(r.rb_mut(), j);
             for i in 0..n {
-                let ri = hxj[i] - mass[i] * lambda[j] * xj[i];
-                rj[i] = ri;
-                s2 += ri * ri / mass[i];
+                rj[i] = hxj[i] - mass[i] * lambda[j] * xj[i];
             }
+            let s2 = weighted_squares(rj, &inv_mass);
             if s2.sqrt() / (lambda[j].abs() + sigma.abs()) > target {
                 active.push(j);
             }
@@ -376,6 +389,16 @@ mod tests {
             ws,
         );
         out.expect("solve").expect("converged")
+    }
+
+    #[test]
+    fn weighted_squares_is_the_weighted_sum_of_squares_at_any_length() {
+        for n in 0..11 {
+            let r: Vec<f64> = (0..n).map(|i| (i as f64 * 1.7).sin()).collect();
+            let w: Vec<f64> = (0..n).map(|i| 0.5 + i as f64).collect();
+            let want: f64 = r.iter().zip(&w).map(|(a, b)| a * a * b).sum();
+            assert!((weighted_squares(&r, &w) - want).abs() <= 1e-14 * want.max(1.0), "n = {n}");
+        }
     }
 
     #[test]
