@@ -1383,7 +1383,7 @@ pub unsafe extern "C" fn ds_result_cost(result: *const ds_result, out: *mut f64)
 
 /// How much to trust the region, in [0, 1]: the estimated probability that the partial is
 /// part of this full shape and the region overlaps the true one with IoU >= 0.5 (the core's
-/// `selection::confidence`, from the partial fit and the cost). Reject matches below a
+/// `selection::confidence`, from the partial fit and the region cost). Reject matches below a
 /// threshold of your choice.
 ///
 /// # Safety

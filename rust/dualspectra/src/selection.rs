@@ -407,32 +407,41 @@ pub fn similarity_score(candidates: &[CandidateScore]) -> f64 {
         .max(0.0)
 }
 
-/// Weights of [`confidence`]: bias, partial fit, $\log_{10}$ of the final alignment cost. A
-/// logistic regression of "the right full shape and symmetry-aware IoU >= 0.5" over the 290
-/// dev pairs (each on its own full shape) and 155 localizations of dev partials on the other
-/// full shapes of their set (docs/benchmarks/confidence/fit_confidence_models.py): the partial
-/// fit tells a good region from a bad one on the right shape, the cost tells the right shape
-/// from another person's body, whose spectra the potential cannot match as well
-/// (docs/benchmarks/options.md, "Confidence from the partial fit and the cost").
-const CONFIDENCE_WEIGHTS: [f64; 3] = [9.67, -18.1011, -0.902];
+/// Weights of [`confidence`]: bias, partial fit, $\log_{10}$ of the region cost. A logistic
+/// regression of "the right full shape and symmetry-aware IoU >= 0.5" over the 290 dev pairs
+/// (each on its own full shape) and 148 localizations of dev partials on the other full shapes
+/// of their set (docs/benchmarks/confidence/fit_confidence_models.py): the partial fit tells a
+/// good region from a bad one on the right shape, the region cost tells the right shape from
+/// another person's body, whose spectra no region matches as well
+/// (docs/benchmarks/options.md, "Confidence from the partial fit and the region cost").
+const CONFIDENCE_WEIGHTS: [f64; 3] = [9.5519, -16.5673, -1.1848];
 
-/// Costs below this count as this in [`confidence`] (an exact match is no better evidence
-/// than a near one).
+/// Region costs below this count as this in [`confidence`] (an exact match is no better
+/// evidence than a near one).
 const CONFIDENCE_COST_FLOOR: f64 = 1e-6;
 
-/// Costs above this (and `+inf` or NaN) count as this in [`confidence`].
+/// Region costs above this (and `+inf` or NaN) count as this in [`confidence`].
 const CONFIDENCE_COST_CEILING: f64 = 1e6;
+
+/// A region cost that could not be computed counts as this in [`confidence`] (as in the fit).
+const CONFIDENCE_UNKNOWN_COST: f64 = 1e3;
 
 /// How much to trust a chosen region, in [0, 1]: the estimated probability that the partial
 /// is part of this full shape and the region overlaps the true one with IoU >= 0.5,
-/// $\sigma(b + a f + c \log_{10} \max(C, 10^{-6}))$ from the chosen candidate's partial fit
-/// $f$ (how far the partial's descriptors are from the region's; 1 if unknown, clamped to
-/// [0, 10]) and its final alignment cost $C$ (how far the spectra stayed from the partial's;
-/// clamped to $[10^{-6}, 10^6]$, NaN counts as $10^6$).
-pub fn confidence(chosen: &CandidateScore, cost: f64) -> f64 {
+/// $\sigma(b + a f + c \log_{10} C)$ from the chosen candidate's partial fit $f$ (how far the
+/// partial's descriptors are from the region's; 1 if unknown, clamped to [0, 10]) and its
+/// region cost $C$ (how far the spectra of the region itself, as a step potential, are from the
+/// partial's; $10^3$ if unknown, clamped to $[10^{-6}, 10^6]$, NaN counts as $10^6$). Both are
+/// read off the region, not the optimisation's last iterate, so the confidence does not depend
+/// on how many iterations ran.
+pub fn confidence(chosen: &CandidateScore) -> f64 {
     let [b, a_fit, a_cost] = CONFIDENCE_WEIGHTS;
     let fit = chosen.partial_fit.filter(|v| v.is_finite()).unwrap_or(1.0).clamp(0.0, 10.0);
-    let cost = if cost.is_nan() { CONFIDENCE_COST_CEILING } else { cost.clamp(CONFIDENCE_COST_FLOOR, CONFIDENCE_COST_CEILING) };
+    let cost = match chosen.region_cost {
+        None => CONFIDENCE_UNKNOWN_COST,
+        Some(c) if c.is_nan() => CONFIDENCE_COST_CEILING,
+        Some(c) => c.clamp(CONFIDENCE_COST_FLOOR, CONFIDENCE_COST_CEILING),
+    };
     1.0 / (1.0 + (-(b + a_fit * fit + a_cost * cost.log10())).exp())
 }
 
@@ -481,21 +490,24 @@ mod tests {
     }
 
     #[test]
-    fn confidence_is_a_probability_falling_with_a_worse_fit_or_cost() {
-        let s = |fit: f64| CandidateScore { descriptor_score: Some(1.0), region_cost: Some(1.0), boundary_misfit: Some(0.0), partial_fit: Some(fit), vote_share: None };
-        let c = confidence(&s(0.45), 0.1);
+    fn confidence_is_a_probability_falling_with_a_worse_fit_or_region_cost() {
+        let s = |fit: f64, cost: f64| CandidateScore { descriptor_score: Some(1.0), region_cost: Some(cost), boundary_misfit: Some(0.0), partial_fit: Some(fit), vote_share: None };
+        let c = confidence(&s(0.45, 0.1));
         assert!(c > 0.0 && c < 1.0, "{c}");
-        assert!(confidence(&s(0.40), 0.1) > c && confidence(&s(0.50), 0.1) < c);
-        assert!(confidence(&s(0.45), 0.01) > c && confidence(&s(0.45), 10.0) < c);
+        assert!(confidence(&s(0.40, 0.1)) > c && confidence(&s(0.50, 0.1)) < c);
+        assert!(confidence(&s(0.45, 0.01)) > c && confidence(&s(0.45, 10.0)) < c);
         // Below the floor the cost no longer counts.
-        assert_eq!(confidence(&s(0.45), 1e-9), confidence(&s(0.45), 0.0));
+        assert_eq!(confidence(&s(0.45, 1e-9)), confidence(&s(0.45, 0.0)));
         for x in [f64::NAN, f64::INFINITY, -1e300, 0.0] {
             for cost in [f64::NAN, f64::INFINITY, -1.0, 0.0, 1e300] {
-                let v = confidence(&s(x), cost);
+                let v = confidence(&s(x, cost));
                 assert!((0.0..=1.0).contains(&v), "{x} {cost}: {v}");
             }
         }
-        assert!((0.0..=1.0).contains(&confidence(&CandidateScore::default(), 1.0)));
+        assert!((0.0..=1.0).contains(&confidence(&CandidateScore::default())));
+        // An unknown region cost counts as 1e3.
+        let unknown = CandidateScore { region_cost: None, ..s(0.45, 1.0) };
+        assert_eq!(confidence(&unknown), confidence(&s(0.45, 1e3)));
     }
 
     /// A score with every entry known (NaN entries become `None`).

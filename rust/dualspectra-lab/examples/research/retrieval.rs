@@ -13,7 +13,8 @@
 //!
 //! `run` appends to LOG.jsonl and skips the pairs already in it (a stopped run resumes, and
 //! overlapping strides of one set localize a shared partial once);
-//! `--threads N` (anywhere) sets the localizer's threads (default 2).
+//! `--threads N` (anywhere) sets the localizer's threads (default 2), `--max-iterations N`
+//! the trust-region iterations per start (default: the localizer's).
 
 use dualspectra_lab::datasets::Dataset;
 use dualspectra::evaluation::metrics::{scores, symmetry_aware};
@@ -103,14 +104,13 @@ fn off_files(dir: &Path) -> Result<Vec<PathBuf>, Box<dyn std::error::Error>> {
     Ok(out)
 }
 
-fn run(root: &Path, log: &Path, sets: &[(String, usize, usize)], threads: usize) -> Result<(), Box<dyn std::error::Error>> {
+fn run(root: &Path, log: &Path, sets: &[(String, usize, usize)], options: &Options) -> Result<(), Box<dyn std::error::Error>> {
     let mut done: HashSet<(String, String, String)> = read_log(log)
         .unwrap_or_default()
         .into_iter()
         .map(|p| (p.set, p.partial, p.full))
         .collect();
     let mut out = std::fs::OpenOptions::new().create(true).append(true).open(log)?;
-    let options = Options { threads, ..Options::default() };
     let read = ReadOptions { drop_isolated: true, ..ReadOptions::default() };
     for (set, stride, offset) in sets {
         let dataset = Dataset::open(root.join(set))?;
@@ -121,7 +121,7 @@ fn run(root: &Path, log: &Path, sets: &[(String, usize, usize)], threads: usize)
         for path in &full_paths {
             let (mesh, _) = read_mesh_with_report(path, &read)?;
             let dna = dual_shape_dna(&mesh, DNA_K)?.descriptor(Descriptor::Dual)?;
-            let localizer = Localizer::new(&mesh, &options)?;
+            let localizer = Localizer::new(&mesh, options)?;
             fulls.push((stem(path), mesh.area(), dna, localizer));
         }
         println!("{set}: {} partials x {} full shapes, prepared in {:.1} s", pairs.len(), fulls.len(), t0.elapsed().as_secs_f64());
@@ -396,6 +396,9 @@ fn time(set: &Path, repeats: usize, threads: usize) -> Result<(), Box<dyn std::e
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = dualspectra_lab::args::from_env();
     let threads: usize = dualspectra_lab::args::take_value(&mut args, "--threads")?.unwrap_or(2);
+    let max_iterations: Option<usize> = dualspectra_lab::args::take_value(&mut args, "--max-iterations")?;
+    let defaults = Options { threads, ..Options::default() };
+    let options = Options { max_iterations: max_iterations.unwrap_or(defaults.max_iterations), ..defaults };
     let usage = "usage: research_retrieval [--threads N] run ROOT LOG.jsonl [SET:STRIDE ...] | analyse LOG.jsonl | time SET_DIR [REPEATS]";
     match args.first().map(String::as_str) {
         Some("run") if args.len() >= 3 => {
@@ -413,7 +416,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             } else {
                 DEFAULT_SETS.iter().map(|(s, k, o)| (s.to_string(), *k, *o)).collect()
             };
-            run(Path::new(&args[1]), Path::new(&args[2]), &sets, threads)
+            run(Path::new(&args[1]), Path::new(&args[2]), &sets, &options)
         }
         Some("analyse") if args.len() == 2 => analyse(Path::new(&args[1])),
         Some("time") if args.len() >= 2 => time(Path::new(&args[1]), args.get(2).map(|r| r.parse()).transpose()?.unwrap_or(3), threads),

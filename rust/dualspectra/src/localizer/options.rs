@@ -155,7 +155,8 @@ pub struct Options {
     /// Vertices of the decimated full shape the potential is optimised on; 0: no decimation.
     /// Default 2000; 0 or 200..=200000.
     pub resolution: usize,
-    /// Trust-region iterations per start. Default 25; 1..=1000.
+    /// Trust-region iterations per start. Default 8; 1..=1000 (docs/benchmarks/options.md,
+    /// "`max_iterations`": more found no better regions).
     pub max_iterations: usize,
     /// Worker threads; 0: all cores. Default 0; 0..=256.
     pub threads: usize,
@@ -180,7 +181,7 @@ impl Default for Options {
             k: 20,
             alpha: crate::geometry::metric::DEFAULT_ALPHA,
             resolution: 2000,
-            max_iterations: 25,
+            max_iterations: 8,
             threads: 0,
             plane_cuts: 6,
             scale: Scale::Same,

@@ -66,7 +66,7 @@ pub struct Localization {
     pub cost: f64,
     /// How much to trust the region, in [0, 1]: the estimated probability that the partial is
     /// part of this full shape and the region overlaps the true one with IoU >= 0.5
-    /// ([`crate::selection::confidence`], from the partial fit and the cost; calibration in
+    /// ([`crate::selection::confidence`], from the partial fit and the region cost; calibration in
     /// docs/benchmarks/confidence/). Reject matches below a threshold of your choice.
     pub confidence: f64,
     /// How similar the partial is to the full shape, lower is more similar

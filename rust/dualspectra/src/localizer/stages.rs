@@ -676,7 +676,7 @@ fn result(loc: &Localizer, level: &OptimisationMesh, target: &Target, scored: Ve
     let target_si = targets.next().unwrap_or_default();
     let cost = best.cost;
     let n_starts = scored.len();
-    let confidence = selection::confidence(&scored[choice].score, cost);
+    let confidence = selection::confidence(&scored[choice].score);
     let similarity_score = selection::similarity_score(&scored.iter().map(|c| c.score).collect::<Vec<_>>());
     let region = scored[choice].full.0.clone();
     let candidates = scored

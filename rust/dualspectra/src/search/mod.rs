@@ -90,9 +90,9 @@ where
 /// quick localizations rank best (docs/benchmarks/options.md, "Two-stage search").
 pub(crate) const REFINED_SHAPES: usize = 2;
 
-/// The quick localizations that rank a shortlist: fewer trust-region iterations and
-/// plane-cut starts than a localization's defaults (docs/benchmarks/options.md, "Two-stage
-/// search").
+/// The quick localizations that rank a shortlist: the first 2 plane-cut starts (of the
+/// default 6) and at most 10 trust-region iterations (the default is 8: the same), each at
+/// most the localizer's own (docs/benchmarks/options.md, "Two-stage search").
 pub(crate) const RANKING_EFFORT: Effort = Effort { max_iterations: 10, plane_cuts: 2 };
 
 /// Time of a quick ranking localization over a full one, for splitting progress.

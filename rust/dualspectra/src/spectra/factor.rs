@@ -234,9 +234,11 @@ impl ShiftedFactor {
             for (&i, &w) in row_idx[s + 1..e].iter().zip(&values[s + 1..e]) {
                 let xi = &rows[i * b..(i + 1) * b];
                 let oi = &mut products[i * b..(i + 1) * b];
-                for c in 0..b {
-                    oi[c] += w * xj[c];
-                    acc[c] += w * xi[c];
+                for (o, x) in oi.iter_mut().zip(xj) {
+                    *o += w * x;
+                }
+                for (a, x) in acc.iter_mut().zip(xi) {
+                    *a += w * x;
                 }
             }
             for (o, a) in products[j * b..(j + 1) * b].iter_mut().zip(&acc) {
