@@ -2,7 +2,7 @@
 # Regenerates docs/benchmarks/results.md and its plots (docs/benchmarks/results/) from one run
 # of `dualspectra bench --all` on every dev set under $DUALSPECTRA_DATA (default:
 # ../shared/datasets beside the clone), with the default options.
-#   bash scripts/results.sh               # every pair of every set (~25 min on 2 idle cores)
+#   bash scripts/results.sh               # every pair of every set (~6 min on 2 idle cores)
 #   bash scripts/results.sh --limit 1     # any extra `bench` argument: a smoke run (one pair a set)
 # The JSON stays in target/results/all.json; the page names the date, the commit (with
 # "+changes" when rust/ differs from it) and the machine.
