@@ -484,7 +484,7 @@ ds_status ds_result_cost(const struct ds_result *result, double *out);
 
 // How much to trust the region, in [0, 1]: the estimated probability that the partial is
 // part of this full shape and the region overlaps the true one with IoU >= 0.5 (the core's
-// `selection::confidence`, from the partial fit and the cost). Reject matches below a
+// `selection::confidence`, from the partial fit and the region cost). Reject matches below a
 // threshold of your choice.
 //
 // # Safety
