@@ -263,6 +263,22 @@ impl Localizer {
         self.note.iter().cloned().chain(partial.warning("partial mesh")).collect()
     }
 
+    /// The partial `(vertices, faces)` taken in and located by `how` (with `progress`, the GIL
+    /// released), as a Python result with this shape's notes: `locate` and `locate_quick`.
+    fn locate_by(
+        &self,
+        py: Python<'_>,
+        vertices: &PyReadonlyArray2<'_, f64>,
+        faces: &PyReadonlyArray2<'_, i64>,
+        progress: Option<Py<PyAny>>,
+        how: impl FnOnce(&dualspectra::Localizer, &dualspectra::TriMesh, &Progress) -> dualspectra::Result<dualspectra::Localization> + Send,
+    ) -> PyResult<Localization> {
+        check_callable(py, &progress)?;
+        let partial = intake("partial mesh", vertices, faces)?;
+        let r = with_progress(py, progress, |p| how(&self.inner, &partial.mesh, p))?;
+        Localization::new(py, r, &self.host, self.notes_for(&partial))
+    }
+
     /// The core's preparation of the full mesh `full` (an intake of the caller's arrays), its
     /// numbering stored with it (saved files name the caller's vertices) unless it is the
     /// identity: `Localizer(vertices, faces)`'s, and `search`'s for the meshes it prepares.
@@ -349,10 +365,7 @@ impl Localizer {
         faces: PyReadonlyArray2<'_, i64>,
         progress: Option<Py<PyAny>>,
     ) -> PyResult<Localization> {
-        check_callable(py, &progress)?;
-        let partial = intake("partial mesh", &vertices, &faces)?;
-        let r = with_progress(py, progress, |p| self.inner.locate(&partial.mesh, p))?;
-        Localization::new(py, r, &self.host, self.notes_for(&partial))
+        self.locate_by(py, &vertices, &faces, progress, dualspectra::Localizer::locate)
     }
 
     /// `locate` as a two-stage search's quick localization (`dualspectra::search::locate_quick`:
@@ -365,10 +378,7 @@ impl Localizer {
         faces: PyReadonlyArray2<'_, i64>,
         progress: Option<Py<PyAny>>,
     ) -> PyResult<Localization> {
-        check_callable(py, &progress)?;
-        let partial = intake("partial mesh", &vertices, &faces)?;
-        let r = with_progress(py, progress, |p| dualspectra::search::locate_quick(&self.inner, &partial.mesh, p))?;
-        Localization::new(py, r, &self.host, self.notes_for(&partial))
+        self.locate_by(py, &vertices, &faces, progress, dualspectra::search::locate_quick)
     }
 
     /// Vertices of the caller's full mesh (the length of every per-vertex result).

@@ -57,7 +57,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 if i == found.selected_start { "*" } else { "-" },
                 c.evaluations,
                 c.cost_history.iter().map(|h| format!("{h:.4e}")).collect::<Vec<_>>().join(","),
-                closest_earlier(&found.candidates, i)
+                closest_earlier(&found.candidates, i)?
             );
         }
     }
@@ -66,17 +66,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
 /// The earlier candidate whose full-shape region is closest to candidate `i`'s, as
 /// `index:IoU` (`-` for the first): how many starts end in the same region.
-fn closest_earlier(candidates: &[dualspectra::Candidate], i: usize) -> String {
-    let iou = |a: &[bool], b: &[bool]| {
-        let (mut both, mut any) = (0usize, 0usize);
-        for (x, y) in a.iter().zip(b) {
-            both += (*x && *y) as usize;
-            any += (*x || *y) as usize;
+fn closest_earlier(candidates: &[dualspectra::Candidate], i: usize) -> dualspectra::Result<String> {
+    let mut closest: Option<(usize, f64)> = None;
+    for j in 0..i {
+        let iou = scores(&candidates[i].region, &candidates[j].region)?.iou;
+        if closest.is_none_or(|(_, best)| iou >= best) {
+            closest = Some((j, iou));
         }
-        both as f64 / any.max(1) as f64
-    };
-    (0..i)
-        .map(|j| (j, iou(&candidates[i].region, &candidates[j].region)))
-        .max_by(|a, b| a.1.total_cmp(&b.1))
-        .map_or("-".to_string(), |(j, v)| format!("{j}:{v:.3}"))
+    }
+    Ok(closest.map_or("-".to_string(), |(j, v)| format!("{j}:{v:.3}")))
 }

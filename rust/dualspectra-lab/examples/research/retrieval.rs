@@ -396,9 +396,10 @@ fn time(set: &Path, repeats: usize, threads: usize) -> Result<(), Box<dyn std::e
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = dualspectra_lab::args::from_env();
     let threads: usize = dualspectra_lab::args::take_value(&mut args, "--threads")?.unwrap_or(2);
-    let max_iterations: Option<usize> = dualspectra_lab::args::take_value(&mut args, "--max-iterations")?;
-    let defaults = Options { threads, ..Options::default() };
-    let options = Options { max_iterations: max_iterations.unwrap_or(defaults.max_iterations), ..defaults };
+    let mut options = Options { threads, ..Options::default() };
+    if let Some(iterations) = dualspectra_lab::args::take_value(&mut args, "--max-iterations")? {
+        options.max_iterations = iterations;
+    }
     let usage = "usage: research_retrieval [--threads N] run ROOT LOG.jsonl [SET:STRIDE ...] | analyse LOG.jsonl | time SET_DIR [REPEATS]";
     match args.first().map(String::as_str) {
         Some("run") if args.len() >= 3 => {
