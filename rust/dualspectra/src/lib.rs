@@ -99,8 +99,8 @@ pub mod lab {
     }
 
     /// [`crate::search::Screen::rank`], choosing how `scale = auto` scores.
-    pub fn screen_rank(screen: &crate::search::Screen, partial: &TriMesh, scale: crate::Scale, relative_auto: bool) -> Result<Vec<(usize, f64)>> {
-        screen.rank_with(partial, scale, relative_auto, &Progress::none())
+    pub fn screen_rank(screen: &crate::search::Screen, partial: &TriMesh, scale: crate::Scale, relative: bool) -> Result<Vec<(usize, f64)>> {
+        screen.rank_with(partial, scale, relative, &Progress::none())
     }
 
     /// [`crate::search::Screen::new`] with `dimensions` principal directions (352: none).

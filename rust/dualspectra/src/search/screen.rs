@@ -12,11 +12,17 @@
 //! the mean distance of the partial's keypoints to their nearest model keypoint, where the
 //! area-fraction hypotheses $H_m$ are the one the units give ($a = A_N s^2 / A_m$ with
 //! `scale = same` ($s = 1$) or a factor $s$, snapped to the grid of
-//! [`crate::alignment::scale`]) or that whole grid (`scale = auto`). Lower is more similar;
-//! a partial larger than the model in the same units scores `+inf`. With `scale = auto` a
-//! model may pick a scale at which every model looks alike, so the score is the mean of its
-//! positions in the library by $d_m$ and by $\min_a d_m(a) / \operatorname{median}_{m'} d_{m'}(a)$
-//! (measured in docs/benchmarks/options.md, "Library screen").
+//! [`crate::alignment::scale`]) or that whole grid (`scale = auto`). A small area fraction
+//! describes the partial with a small support, at which every model looks alike (a small
+//! model draws every partial in known units; with `scale = auto` any model may pick such a
+//! scale), so distances are weighed against what they are at the same hypothesis: the
+//! score is the mean of the model's positions in the library by
+//! $\min_{a \in H_m} d_m(a) / \operatorname{median}_{m'} d_{m'}(a)$ (against the library's
+//! median model) and by $\min_{a \in H_m} d_m(a) / \sigma(a)$, where $\sigma(a)$ is the mean
+//! distance from each of the partial's keypoints to its nearest other keypoint in descriptor
+//! space (how alike the partial's own points look at that support). Lower is more similar; a
+//! partial larger than the model in the same units scores `+inf` (measured in
+//! docs/benchmarks/options.md, "`shortlist`").
 
 use crate::alignment::scale::{area_grid, nearest_distances};
 use crate::error::{Error, Result};
@@ -222,16 +228,15 @@ impl Screen {
     }
 
     /// Every model's screen score for `partial` under `scale` (see the module's formula):
-    /// `(model index, score)`, lowest (most similar) first, ties by index, `+inf` (cannot
-    /// hold the partial in the given units) last. Cancelling `progress` returns
-    /// [`Error::Cancelled`].
+    /// `(model index, score)`, lowest (most similar) first, ties by the lowest distance $d_m$,
+    /// then by index, `+inf` (cannot hold the partial in the given units) last. Cancelling
+    /// `progress` returns [`Error::Cancelled`].
     pub fn rank(&self, partial: &TriMesh, scale: Scale, progress: &Progress) -> Result<Vec<(usize, f64)>> {
         self.rank_with(partial, scale, true, progress)
     }
 
-    /// [`Screen::rank`]; with `scale = auto` and `relative_auto` false, by the absolute
-    /// distance alone (for studies).
-    pub(crate) fn rank_with(&self, partial: &TriMesh, scale: Scale, relative_auto: bool, progress: &Progress) -> Result<Vec<(usize, f64)>> {
+    /// [`Screen::rank`]; with `relative` false, by the absolute distance alone (for studies).
+    pub(crate) fn rank_with(&self, partial: &TriMesh, scale: Scale, relative: bool, progress: &Progress) -> Result<Vec<(usize, f64)>> {
         let (component, _) = crate::localizer::stages::largest_component(partial)?;
         let area = component.area();
         if !(area > 0.0 && area.is_finite()) {
@@ -258,12 +263,14 @@ impl Screen {
         let keypoints = farthest_points(&component, QUERY_KEYPOINTS);
         // Query rows per grid point (projected), and their offsets in one stacked matrix.
         let mut blocks: Vec<Option<(usize, usize)>> = vec![None; grid.len()];
+        let mut spreads = vec![f64::INFINITY; grid.len()];
         let mut stacked: Vec<Mat<f32>> = Vec::new();
         let mut offset = 0;
         for (h, &la) in grid.iter().enumerate().filter(|(h, _)| needed[*h]) {
             let s = (10f64.powf(la) / area).sqrt();
             let d = shot::shot_keypoint_descriptors(&component, &keypoints, shot::DEFAULT_RADIUS_FRACTION / s, shot::DEFAULT_MIN_NEIGHBORS)?;
             let p = project(&live_rows(&d), &self.basis, 0.0);
+            spreads[h] = own_spread(&p.rows);
             if p.rows.nrows() > 0 {
                 blocks[h] = Some((offset, p.rows.nrows()));
                 offset += p.rows.nrows();
@@ -279,19 +286,14 @@ impl Screen {
         }
         progress.report(0.2, "screening")?;
         let chunk = 64;
-        // Per model, the mean nearest distance under each hypothesis it needs (+inf elsewhere).
+        // Per model, the mean nearest distance under every hypothesis some model needs (+inf
+        // elsewhere): a model's own distance is weighed against the library's at its hypothesis.
         let mut per_hypothesis = vec![vec![f64::INFINITY; grid.len()]; self.models.len()];
         for (c, out) in per_hypothesis.chunks_mut(chunk).enumerate() {
             progress.report(0.2 + 0.8 * (c * chunk) as f64 / self.models.len() as f64, "screening")?;
             out.par_iter_mut().enumerate().for_each(|(j, costs)| {
-                let i = c * chunk + j;
-                let model = &self.models[i];
-                let wanted: Vec<usize> = match hypotheses[i] {
-                    Some(usize::MAX) => Vec::new(),
-                    Some(h) => vec![h],
-                    None => (0..grid.len()).collect(),
-                };
-                for h in wanted {
+                let model = &self.models[c * chunk + j];
+                for h in (0..grid.len()).filter(|&h| needed[h]) {
                     if let Some((start, rows)) = blocks[h] {
                         let d = nearest_distances(&model.rows, &model.norms2, query.as_ref().subrows(start, rows));
                         costs[h] = d.iter().map(|&x| x as f64).sum::<f64>() / rows as f64;
@@ -299,30 +301,40 @@ impl Screen {
                 }
             });
         }
-        let absolute: Vec<f64> = per_hypothesis.iter().map(|c| c.iter().cloned().fold(f64::INFINITY, f64::min)).collect();
-        let scores: Vec<f64> = if factor.is_some() || !relative_auto {
-            absolute
+        // Under each hypothesis, the library's median model: the partial described with a small
+        // support looks like every model, and a scale at which every model looks alike does not
+        // make any of them look right.
+        let medians: Vec<f64> = (0..grid.len())
+            .map(|h| {
+                let mut column: Vec<f64> = per_hypothesis.iter().map(|c| c[h]).filter(|x| x.is_finite()).collect();
+                column.sort_by(f64::total_cmp);
+                column.get(column.len() / 2).copied().unwrap_or(f64::INFINITY)
+            })
+            .collect();
+        // Each model's hypotheses: the one its units give, none, or the whole grid.
+        let own = |i: usize| -> Vec<usize> {
+            match hypotheses[i] {
+                Some(usize::MAX) => Vec::new(),
+                Some(h) => vec![h],
+                None => (0..grid.len()).collect(),
+            }
+        };
+        let lowest = |i: usize, value: &dyn Fn(usize) -> f64| own(i).into_iter().map(value).fold(f64::INFINITY, f64::min);
+        let absolute: Vec<f64> = (0..self.models.len()).map(|i| lowest(i, &|h| per_hypothesis[i][h])).collect();
+        let scores: Vec<f64> = if !relative {
+            absolute.clone()
         } else {
-            // Under each hypothesis, relative to the library's median model: a scale at which
-            // every model looks alike does not make any of them look right. The score is the
-            // mean of the model's positions by the absolute and by the relative distance.
-            let medians: Vec<f64> = (0..grid.len())
-                .map(|h| {
-                    let mut column: Vec<f64> = per_hypothesis.iter().map(|c| c[h]).filter(|x| x.is_finite()).collect();
-                    column.sort_by(f64::total_cmp);
-                    column.get(column.len() / 2).copied().unwrap_or(f64::INFINITY)
-                })
-                .collect();
-            let relative: Vec<f64> = per_hypothesis
-                .iter()
-                .map(|c| (0..grid.len()).filter(|&h| medians[h] > 0.0 && medians[h].is_finite()).map(|h| c[h] / medians[h]).fold(f64::INFINITY, f64::min))
-                .collect();
-            let (a, r) = (positions(&absolute), positions(&relative));
-            (0..absolute.len()).map(|i| if absolute[i].is_finite() { 0.5 * (a[i] + r[i]) as f64 } else { f64::INFINITY }).collect()
+            // Each model's lowest distance over its hypotheses in units of `unit` there.
+            let relative_to = |unit: &[f64]| -> Vec<usize> {
+                let usable = |h: usize| unit[h] > 0.0 && unit[h].is_finite();
+                positions(&(0..self.models.len()).map(|i| lowest(i, &|h| if usable(h) { per_hypothesis[i][h] / unit[h] } else { f64::INFINITY })).collect::<Vec<_>>())
+            };
+            let (by_library, by_partial) = (relative_to(&medians), relative_to(&spreads));
+            (0..absolute.len()).map(|i| if absolute[i].is_finite() { 0.5 * (by_library[i] + by_partial[i]) as f64 } else { f64::INFINITY }).collect()
         };
         progress.report(1.0, "screened")?;
         let mut order: Vec<(usize, f64)> = scores.into_iter().enumerate().collect();
-        order.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+        order.sort_by(|a, b| a.1.total_cmp(&b.1).then(absolute[a.0].total_cmp(&absolute[b.0])).then(a.0.cmp(&b.0)));
         Ok(order)
     }
 }
@@ -373,6 +385,22 @@ fn positions(values: &[f64]) -> Vec<usize> {
         out[i] = p;
     }
     out
+}
+
+/// How alike the partial's own keypoints look under one hypothesis: the mean distance from
+/// each row of `rows` to the nearest other row (`+inf` below two rows).
+fn own_spread(rows: &Mat<f32>) -> f64 {
+    let n = rows.nrows();
+    if n < 2 {
+        return f64::INFINITY;
+    }
+    let total: f64 = (0..n)
+        .map(|a| {
+            let d2 = |b: usize| (0..rows.ncols()).map(|c| f64::from(rows[(a, c)] - rows[(b, c)]).powi(2)).sum::<f64>();
+            (0..n).filter(|&b| b != a).map(d2).fold(f64::INFINITY, f64::min).sqrt()
+        })
+        .sum();
+    total / n as f64
 }
 
 /// The grid point (an index of `grid`, in $\log_{10}$ area fraction) nearest `fraction`,
