@@ -631,8 +631,8 @@ ds_status ds_search_result_screen_score(const struct ds_search_result *search, s
 // `search` any pointer (a handle argument, checked); `out` valid for one write.
 ds_status ds_search_result_confidence(const struct ds_search_result *search, size_t rank, double *out);
 
-// Whether the localization at `rank` is the screened search's quick one (fewer starts and
-// iterations, ranking the shortlist) rather than a full one: `ds_search_screened` localizes
+// Whether the localization at `rank` is the screened search's quick one (fewer starts, iterations
+// and eigenvalues, ranking the shortlist) rather than a full one: `ds_search_screened` localizes
 // its shortlist quickly and the best few of those again in full.
 //
 // # Safety

@@ -1659,8 +1659,8 @@ pub unsafe extern "C" fn ds_search_result_confidence(search: *const ds_search_re
     guard(|| unsafe { write_out(out, ranked(handle(search, "search")?, rank)?.confidence, "out") })
 }
 
-/// Whether the localization at `rank` is the screened search's quick one (fewer starts and
-/// iterations, ranking the shortlist) rather than a full one: `ds_search_screened` localizes
+/// Whether the localization at `rank` is the screened search's quick one (fewer starts, iterations
+/// and eigenvalues, ranking the shortlist) rather than a full one: `ds_search_screened` localizes
 /// its shortlist quickly and the best few of those again in full.
 ///
 /// # Safety

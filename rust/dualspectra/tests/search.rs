@@ -178,8 +178,9 @@ fn a_localization_keeps_an_infinite_similarity_through_json() {
 
 /// A screened search with a shortlist below the library's size localizes its shortlist
 /// quickly and the two best of those again in full: the full ones are exactly
-/// `Localizer::locate`'s answers, the quick one is exactly a localization with 2 plane cuts
-/// and at most 10 iterations, and the shape the screen leaves out follows, not located.
+/// `Localizer::locate`'s answers, the quick one is exactly a localization with 2 plane cuts,
+/// at most 2 iterations and at most 10 eigenvalues, and the shape the screen leaves out
+/// follows, not located.
 #[test]
 fn a_screened_search_localizes_its_shortlist_quickly_and_the_best_again_in_full() {
     let lib = library();
@@ -206,7 +207,7 @@ fn a_screened_search_localizes_its_shortlist_quickly_and_the_best_again_in_full(
         assert_eq!((loc.region.clone(), m.score.to_bits()), (direct.region, direct.similarity_score.to_bits()));
     }
     let quick = &found[2];
-    let quick_options = Options { plane_cuts: 2, max_iterations: light().max_iterations.min(10), ..light() };
+    let quick_options = Options { plane_cuts: 2, max_iterations: light().max_iterations.min(2), k: light().k.min(10), ..light() };
     let prepared = Localizer::new(meshes[quick.index], &quick_options).unwrap();
     let direct = prepared.locate(&pair().partial, &Progress::none()).unwrap();
     let loc = quick.localization.as_ref().unwrap();

@@ -216,8 +216,8 @@ class Match:
         no error."""
     @property
     def quick(self) -> bool:
-        """Whether ``localization`` is a screened search's quick one (fewer starts and
-        iterations, ranking the shortlist) rather than a full localization: the best two of
+        """Whether ``localization`` is a screened search's quick one (fewer starts, iterations
+        and eigenvalues, ranking the shortlist) rather than a full localization: the best two of
         the shortlist are localized again in full and ranked first."""
     @property
     def confidence(self) -> float:

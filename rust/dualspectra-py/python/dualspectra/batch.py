@@ -13,7 +13,7 @@ ranked here by the library's screen and only its ``shortlist`` best (partial, fu
 pairs become work for the tasks; the others are listed after the localized shapes, screened
 out (as :func:`dualspectra.search` lists them). As in :func:`dualspectra.search`, a shortlist
 shorter than the library and longer than two is localized in two stages: every shortlisted
-pair quickly (fewer starts and iterations; :attr:`BatchMatch.quick`), then the two best of
+pair quickly (fewer starts, iterations and eigenvalues; :attr:`BatchMatch.quick`), then the two best of
 each partial's quick ranking again in full, in a second round of tasks. The core decides
 which pairs and in what order (``in_two_stages``, ``shapes_to_refine``,
 ``two_stage_order``), so a batch ranks as :func:`dualspectra.search` does.
@@ -110,8 +110,8 @@ class BatchMatch:
     #: of its ranking (:attr:`dualspectra.Match.confidence`: the core's ``search_confidences``
     #: among the located ones); ``None`` when not located.
     search_confidence: Optional[float] = None
-    #: Whether ``region`` is a two-stage search's quick localization (fewer starts and
-    #: iterations, ranking the shortlist) rather than a full one (:attr:`dualspectra.Match.quick`).
+    #: Whether ``region`` is a two-stage search's quick localization (fewer starts, iterations
+    #: and eigenvalues, ranking the shortlist) rather than a full one (:attr:`dualspectra.Match.quick`).
     quick: bool = False
 
 
@@ -335,7 +335,7 @@ def search_batch(
 
 
 #: Time of a quick localization over a full one, for splitting progress between the rounds.
-_QUICK_COST = 0.4
+_QUICK_COST = 0.3
 
 
 def _run(

@@ -284,23 +284,25 @@ struct Scored {
     score: CandidateScore,
 }
 
-/// How much of the optimisation a localization runs: trust-region iterations per start and
-/// plane-cut starts (each at most the localizer's options; [`Effort::of`] is all of them).
+/// How much of the method a localization runs: trust-region iterations per start, plane-cut
+/// starts and eigenvalues per spectrum (each at most the localizer's options; [`Effort::of`]
+/// is all of them).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct Effort {
     pub max_iterations: usize,
     pub plane_cuts: usize,
+    pub k: usize,
 }
 
 impl Effort {
     /// What `options` ask for.
     pub(crate) fn of(options: &crate::localizer::Options) -> Effort {
-        Effort { max_iterations: options.max_iterations, plane_cuts: options.plane_cuts }
+        Effort { max_iterations: options.max_iterations, plane_cuts: options.plane_cuts, k: options.k }
     }
 
     /// The smaller of each.
     pub(crate) fn min(self, other: Effort) -> Effort {
-        Effort { max_iterations: self.max_iterations.min(other.max_iterations), plane_cuts: self.plane_cuts.min(other.plane_cuts) }
+        Effort { max_iterations: self.max_iterations.min(other.max_iterations), plane_cuts: self.plane_cuts.min(other.plane_cuts), k: self.k.min(other.k) }
     }
 }
 
@@ -309,7 +311,7 @@ pub(super) fn locate(loc: &Localizer, partial: &TriMesh, initial_regions: &[Vec<
     let effort = effort.min(Effort::of(&loc.options));
     let clock = Clock::start();
     progress.report(0.0, "preprocessing")?;
-    let (target, level, level_notes) = target_on_its_mesh(loc, partial, progress)?;
+    let (target, level, level_notes) = target_on_its_mesh(loc, partial, effort.k, progress)?;
     let t_pre = clock.lap();
     progress.report(0.05, "starts")?;
     let starts = starts_for(&level, &target, initial_regions, effort.plane_cuts);
@@ -349,7 +351,7 @@ pub(super) fn locate(loc: &Localizer, partial: &TriMesh, initial_regions: &[Vec<
 /// what the optimisation begins from (a diagnostic; [`Localizer::start_regions`]).
 #[cfg_attr(not(feature = "lab"), allow(dead_code))] // used by the lab and the tests
 pub(super) fn start_regions(loc: &Localizer, partial: &TriMesh) -> Result<Vec<(String, Vec<bool>)>> {
-    let (target, level, _) = target_on_its_mesh(loc, partial, &Progress::none())?;
+    let (target, level, _) = target_on_its_mesh(loc, partial, loc.options.k, &Progress::none())?;
     starts_for(&level, &target, &[], loc.options.plane_cuts)
         .into_iter()
         .map(|s| {
@@ -362,8 +364,8 @@ pub(super) fn start_regions(loc: &Localizer, partial: &TriMesh) -> Result<Vec<(S
 
 /// Stage 1 with the optimisation mesh it chooses ([`Localizer::level_for`]) and the notes on
 /// that mesh: the target's descriptor matches are on that mesh.
-fn target_on_its_mesh(loc: &Localizer, partial: &TriMesh, progress: &Progress) -> Result<(Target, Arc<OptimisationMesh>, Vec<String>)> {
-    let mut target = loc.workers.install(|| target(loc, partial))?;
+fn target_on_its_mesh(loc: &Localizer, partial: &TriMesh, k: usize, progress: &Progress) -> Result<(Target, Arc<OptimisationMesh>, Vec<String>)> {
+    let mut target = loc.workers.install(|| target(loc, partial, k))?;
     let (level, notes) = loc.level_for(&target, progress)?;
     target.matches = starts::descriptor_matches(&level.coarse_descriptors, &target.descriptors);
     Ok((target, level, notes))
@@ -406,9 +408,10 @@ pub(super) fn partial_in_full_units(loc: &Localizer, partial: &TriMesh) -> Resul
     Ok((scaled, factor, warnings))
 }
 
-/// Stage 1: the partial's largest component, scaled; its Dirichlet spectra and descriptors
-/// (their matches on the optimisation mesh are left to [`target_on_its_mesh`]).
-fn target(loc: &Localizer, partial: &TriMesh) -> Result<Target> {
+/// Stage 1: the partial's largest component, scaled; its Dirichlet spectra (`k` eigenvalues
+/// each, split as the mode says) and descriptors (their matches on the optimisation mesh are
+/// left to [`target_on_its_mesh`]).
+fn target(loc: &Localizer, partial: &TriMesh, k: usize) -> Result<Target> {
     let options = &loc.options;
     let (scaled, factor, mut warnings) = partial_in_full_units(loc, partial)?;
     let area = scaled.area();
@@ -431,7 +434,7 @@ fn target(loc: &Localizer, partial: &TriMesh) -> Result<Target> {
     if shape.dirichlet().n_free() == 0 {
         return Err(MeshError::NoInteriorVertex.into());
     }
-    let (k_regular, k_si) = options.mode.counts(options.k);
+    let (k_regular, k_si) = options.mode.counts(k);
     let wanted: Vec<(Metric, usize)> = [(Metric::Regular, k_regular), (Metric::ScaleInvariant, k_si)].into_iter().filter(|&(_, k)| k > 0).collect();
     // The spectra (one single-threaded solve each) and the descriptors are independent: they
     // run side by side on the localizer's pool, each result the same as alone.

@@ -39,7 +39,7 @@ pub struct Match {
     /// and no error.
     #[serde(default)]
     pub screen_score: Option<f64>,
-    /// Whether `localization` is a screened search's quick one (fewer starts and iterations,
+    /// Whether `localization` is a screened search's quick one (fewer starts, iterations and eigenvalues,
     /// ranking the shortlist) rather than a full localization with the localizer's options
     /// ([`search_screened`]).
     #[serde(default)]
@@ -91,12 +91,13 @@ where
 pub(crate) const REFINED_SHAPES: usize = 2;
 
 /// The quick localizations that rank a shortlist: the first 2 plane-cut starts (of the
-/// default 6) and at most 10 trust-region iterations (the default is 8: the same), each at
-/// most the localizer's own (docs/benchmarks/options.md, "Two-stage search").
-pub(crate) const RANKING_EFFORT: Effort = Effort { max_iterations: 10, plane_cuts: 2 };
+/// default 6), 2 trust-region iterations (of the default 8) and 10 eigenvalues per spectrum
+/// (of the default 20), each at most the localizer's own (docs/benchmarks/options.md,
+/// "Two-stage search").
+pub(crate) const RANKING_EFFORT: Effort = Effort { max_iterations: 2, plane_cuts: 2, k: 10 };
 
 /// Time of a quick ranking localization over a full one, for splitting progress.
-const RANKING_COST: f64 = 0.4;
+const RANKING_COST: f64 = 0.3;
 
 /// Locate `partial` on the shapes `indices` (each opened by `open(index, progress)` just
 /// before and dropped right after), with `effort` (`None`: the localizer's options; a quick
@@ -176,7 +177,7 @@ fn every_shape_failed<E: From<Error>>(found: &[Match], first_error: Option<Error
 /// A search after a screen: the `n = screen.len()` shapes are scored by `screen`
 /// ([`Screen::rank`], with the partial's `scale`) and only the `shortlist` best are opened
 /// (`open(i, progress)`, `i` the shape's index in the screen) and localized, in two stages:
-/// each shortlisted shape is localized quickly (fewer starts and iterations: the
+/// each shortlisted shape is localized quickly (fewer starts, iterations and eigenvalues: the
 /// [`Match::quick`] ones), then the [`REFINED_SHAPES`] best of those again in full, as by
 /// [`Localizer::locate`]. The answer ranks the fully localized shapes by similarity score,
 /// then the quick ones, then the others in screen order (screened out: no localization, no
@@ -250,7 +251,7 @@ pub fn in_two_stages(shortlist: usize, library: usize) -> bool {
 }
 
 /// A two-stage search's quick localization of `partial` on `shape` ([`Match::quick`]: fewer
-/// starts and iterations than the localizer's options), which ranks the shortlist: for front
+/// starts, iterations and eigenvalues than the localizer's options), which ranks the shortlist: for front
 /// ends that run the stages themselves (a batch of searches split per full shape).
 pub fn locate_quick(shape: &Localizer, partial: &TriMesh, progress: &Progress) -> Result<Localization> {
     shape.locate_with_effort(partial, RANKING_EFFORT, progress)
