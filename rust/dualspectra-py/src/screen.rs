@@ -137,8 +137,9 @@ impl Screen {
     }
 
     /// Every shape's screen score for the partial `(vertices, faces)` under `scale` (`"same"`
-    /// when `None`): `[(index, score)]`, best (lowest) first, ties by index, `inf` (the
-    /// partial cannot be part of it in these units) last; and the partial's intake note.
+    /// when `None`): `[(index, score)]`, best (lowest) first, ties by the lower distance then
+    /// by index, `inf` (the partial cannot be part of it in these units) last; and the
+    /// partial's intake note.
     #[pyo3(signature = (vertices, faces, scale=None, progress=None))]
     fn rank(
         &self,

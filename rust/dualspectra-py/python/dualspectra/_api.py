@@ -443,9 +443,11 @@ class Screen:
     ) -> List[Tuple[int, float]]:
         """Every shape's screen score for the partial ``(vertices, faces)``, best first.
 
-        The score of a shape is the mean distance from the partial's descriptors to the
-        nearest of the shape's (lower is more similar; dimensionless, comparable across the
-        library, not with :attr:`Localization.similarity_score`).
+        The score of a shape is its position in the library by the mean distance from the
+        partial's descriptors to the nearest of the shape's, weighed against the library's
+        median shape and against how alike the partial's own descriptors are (the mean of the
+        two positions; lower is more similar; not comparable with
+        :attr:`Localization.similarity_score`).
 
         Args:
             vertices, faces: the partial shape, ``(p, 3)`` and ``(q, 3)`` (repaired as for
@@ -456,8 +458,9 @@ class Screen:
             progress: optional ``callback(fraction, stage)``; returning ``False`` cancels.
 
         Returns:
-            ``[(index, score), ...]`` for every shape, lowest score first, ties by index,
-            ``inf`` (the partial cannot be part of that shape in these units) last.
+            ``[(index, score), ...]`` for every shape, lowest score first, ties by the lower
+            distance, then by index, ``inf`` (the partial cannot be part of that shape in
+            these units) last.
 
         Raises:
             MeshError: the partial mesh cannot be used. ValueError: ``scale`` is not
