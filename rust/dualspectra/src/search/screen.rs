@@ -44,6 +44,10 @@ pub(crate) const DIMENSIONS: usize = 32;
 /// Rows of the library's descriptors the principal directions are computed from (a stride
 /// over all rows above it: bounded memory for any library size).
 const PCA_ROWS: usize = 20_000;
+/// At most about this many models (an even stride of the library above it) give the library's
+/// median distance under each hypothesis: the screen's time then grows with the library's size
+/// as one hypothesis per model.
+const MEDIAN_MODELS: usize = 1000;
 /// Largest area of the partial over the model's, in known units, that the screen scores
 /// (the localizer refuses a partial above it: `MeshError::PartialLargerThanFull`).
 const LARGEST_AREA_RATIO: f64 = 1.1;
@@ -286,14 +290,28 @@ impl Screen {
         }
         progress.report(0.2, "screening")?;
         let chunk = 64;
-        // Per model, the mean nearest distance under every hypothesis some model needs (+inf
-        // elsewhere): a model's own distance is weighed against the library's at its hypothesis.
+        // Each model's hypotheses: the one its units give, none, or the whole grid.
+        let own = |i: usize| -> Vec<usize> {
+            match hypotheses[i] {
+                Some(usize::MAX) => Vec::new(),
+                Some(h) => vec![h],
+                None => (0..grid.len()).collect(),
+            }
+        };
+        // The models the library's median is taken over: all of them up to MEDIAN_MODELS, else
+        // an even stride of about that many.
+        let stride = self.models.len().div_ceil(MEDIAN_MODELS);
+        let sampled = |i: usize| i % stride == 0;
+        // Per model, the mean nearest distance under its own hypotheses and, for the sampled
+        // models, under every hypothesis some model needs (+inf elsewhere).
         let mut per_hypothesis = vec![vec![f64::INFINITY; grid.len()]; self.models.len()];
         for (c, out) in per_hypothesis.chunks_mut(chunk).enumerate() {
             progress.report(0.2 + 0.8 * (c * chunk) as f64 / self.models.len() as f64, "screening")?;
             out.par_iter_mut().enumerate().for_each(|(j, costs)| {
-                let model = &self.models[c * chunk + j];
-                for h in (0..grid.len()).filter(|&h| needed[h]) {
+                let i = c * chunk + j;
+                let model = &self.models[i];
+                let wanted: Vec<usize> = if sampled(i) { (0..grid.len()).filter(|&h| needed[h]).collect() } else { own(i) };
+                for h in wanted {
                     if let Some((start, rows)) = blocks[h] {
                         let d = nearest_distances(&model.rows, &model.norms2, query.as_ref().subrows(start, rows));
                         costs[h] = d.iter().map(|&x| x as f64).sum::<f64>() / rows as f64;
@@ -306,19 +324,12 @@ impl Screen {
         // make any of them look right.
         let medians: Vec<f64> = (0..grid.len())
             .map(|h| {
-                let mut column: Vec<f64> = per_hypothesis.iter().map(|c| c[h]).filter(|x| x.is_finite()).collect();
+                let mut column: Vec<f64> =
+                    per_hypothesis.iter().enumerate().filter(|&(i, _)| sampled(i)).map(|(_, c)| c[h]).filter(|x| x.is_finite()).collect();
                 column.sort_by(f64::total_cmp);
                 column.get(column.len() / 2).copied().unwrap_or(f64::INFINITY)
             })
             .collect();
-        // Each model's hypotheses: the one its units give, none, or the whole grid.
-        let own = |i: usize| -> Vec<usize> {
-            match hypotheses[i] {
-                Some(usize::MAX) => Vec::new(),
-                Some(h) => vec![h],
-                None => (0..grid.len()).collect(),
-            }
-        };
         let lowest = |i: usize, value: &dyn Fn(usize) -> f64| own(i).into_iter().map(value).fold(f64::INFINITY, f64::min);
         let absolute: Vec<f64> = (0..self.models.len()).map(|i| lowest(i, &|h| per_hypothesis[i][h])).collect();
         let scores: Vec<f64> = if !relative {
@@ -516,6 +527,23 @@ mod tests {
         let big = cut.map_positions(|p| p.map(|c| c * 1e3)).unwrap();
         let ranked = screen.rank(&big, Scale::Same, &Progress::none()).unwrap();
         assert!(ranked.iter().all(|r| r.1.is_infinite()), "{ranked:?}");
+    }
+
+    /// Above [`MEDIAN_MODELS`] models the library's median comes from a stride of them, and
+    /// the ranking still puts a copy of the partial's own shape first.
+    #[test]
+    fn a_library_above_the_median_sample_ranks_its_own_shape_first() {
+        let own = figure(3, &default_limbs()).unwrap();
+        let shapes = [crate::mesh::generate::grid(2.0, 1.0, 30, 15), own.clone(), crate::mesh::generate::icosphere(3)];
+        let entries: Vec<ScreenEntry> = shapes.iter().map(|s| ScreenEntry::new(s).unwrap()).collect();
+        let copies = MEDIAN_MODELS / shapes.len() + 1;
+        let library: Vec<ScreenEntry> = (0..copies).flat_map(|_| entries.iter().cloned()).collect();
+        assert!(library.len() > MEDIAN_MODELS);
+        let screen = Screen::new(&library).unwrap();
+        let (cut, _) = cut_by_plane(&own, [0.3, 1.0, 0.2], 0.0).unwrap();
+        let ranked = screen.rank(&cut, Scale::Same, &Progress::none()).unwrap();
+        assert_eq!(ranked.len(), library.len());
+        assert!(ranked[..copies].iter().all(|&(m, _)| m % shapes.len() == 1), "{:?}", &ranked[..5]);
     }
 
     /// A saved screen loads equal (same ranking), and damaged bytes are refused.
