@@ -301,7 +301,7 @@ impl Screen {
         // The models the library's median is taken over: all of them up to MEDIAN_MODELS, else
         // an even stride of about that many.
         let stride = self.models.len().div_ceil(MEDIAN_MODELS);
-        let sampled = |i: usize| i % stride == 0;
+        let sampled = |i: usize| i.is_multiple_of(stride);
         // Per model, the mean nearest distance under its own hypotheses and, for the sampled
         // models, under every hypothesis some model needs (+inf elsewhere).
         let mut per_hypothesis = vec![vec![f64::INFINITY; grid.len()]; self.models.len()];
