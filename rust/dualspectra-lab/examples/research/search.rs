@@ -15,7 +15,7 @@
 //! time of one `localize`). One JSON line per query in LOG.jsonl (appended; queries already in
 //! it are skipped, so a stopped run resumes): the ranking with each model's class, score,
 //! confidence and whether it was quick, the seconds of the search and of the one
-//! localization. `analyse` prints per set (and kind of run): top-1, top-5, mean reciprocal
+//! localization (and, for PFAUST, of one localization with `scale = auto`). `analyse` prints per set (and kind of run): top-1, top-5, mean reciprocal
 //! rank, the screen's recall (the right class shortlisted), the confidence AUC of right
 //! against wrong models' localizations, and the median seconds per query against one
 //! localization.
@@ -54,8 +54,8 @@ fn analyse(log: &str) -> Result<(), Box<dyn std::error::Error>> {
             groups.push(key);
         }
     }
-    println!("| set | search | queries | top-1 | top-5 | MRR | screen recall | confidence AUC (all located / in full) | score AUC (in full) | median s/query | x one localization |");
-    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("| set | search | queries | top-1 | top-5 | MRR | screen recall | confidence AUC (all located / in full) | score AUC (in full) | median s/query | x one localization | x one with `auto` |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     let mut search_aucs = Vec::new();
     for (set, one_stage, shortlist) in groups {
         let rs: Vec<&serde_json::Value> = rows.iter().filter(|r| r["set"] == set.as_str() && r["one_stage"] == one_stage && r["shortlist"] == shortlist).collect();
@@ -110,8 +110,9 @@ fn analyse(log: &str) -> Result<(), Box<dyn std::error::Error>> {
         ));
         let seconds = median(rs.iter().filter_map(|r| r["search_seconds"].as_f64()).collect());
         let ratio = median(rs.iter().filter_map(|r| Some(r["search_seconds"].as_f64()? / r["one_seconds"].as_f64()?)).collect());
+        let ratio_auto = median(rs.iter().filter_map(|r| Some(r["search_seconds"].as_f64()? / r["one_auto_seconds"].as_f64()?)).collect());
         println!(
-            "| {set} | {} shortlist {shortlist} | {} | {:.3} | {:.3} | {:.3} | {:.3} | {:.2} / {:.2} | {:.2} | {seconds:.1} | {ratio:.1} |",
+            "| {set} | {} shortlist {shortlist} | {} | {:.3} | {:.3} | {:.3} | {:.3} | {:.2} / {:.2} | {:.2} | {seconds:.1} | {ratio:.1} | {ratio_auto:.1} |",
             if one_stage { "one-stage" } else { "two-stage" },
             rs.len(),
             top(1),
@@ -228,6 +229,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let t = Instant::now();
             let one = localize(&full, &partial, &Options { scale: Scale::Same, ..options.clone() }, &Progress::none());
             let one_seconds = t.elapsed().as_secs_f64();
+            // With `scale = auto`, also one localization in the search's units: what a user who
+            // knew the model but not the units would run.
+            let one_auto_seconds = (scale == Scale::Auto).then(|| {
+                let t = Instant::now();
+                let _ = localize(&full, &partial, &Options { scale: Scale::Auto, ..options.clone() }, &Progress::none());
+                t.elapsed().as_secs_f64()
+            });
             let ranking: Vec<serde_json::Value> = found
                 .iter()
                 .map(|m| {
@@ -248,7 +256,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 "{}",
                 serde_json::json!({
                     "set": set, "partial": pair.name, "right": right, "rank": rank, "one_stage": one_stage, "shortlist": shortlist,
-                    "search_seconds": search_seconds, "one_seconds": one_seconds, "one_error": one.err().map(|e| e.to_string()),
+                    "search_seconds": search_seconds, "one_seconds": one_seconds, "one_auto_seconds": one_auto_seconds, "one_error": one.err().map(|e| e.to_string()),
                     "ranking": ranking,
                 })
             )?;

@@ -43,50 +43,95 @@ const KEYPOINTS: usize = 200;
 /// full shape's units. `full_descriptors`: SHOT at [`shot::DEFAULT_RADIUS_FRACTION`] on the
 /// full shape of unit area (rows: keypoints), taken at `full_positions` (one per row).
 pub fn estimate_scale(full_descriptors: &Mat<f64>, full_positions: &[[f64; 3]], partial: &TriMesh) -> Result<(f64, f64)> {
-    let area = partial.area();
-    if !(area > 0.0 && area.is_finite()) || full_descriptors.nrows() == 0 {
-        return Err(Error::InvalidArgument("scale = auto: no area or no full-shape descriptor to estimate the scale from".into()));
+    ScaleScan::new(partial.clone())?.estimate(full_descriptors, full_positions)
+}
+
+/// What [`estimate_scale`] needs of the partial alone: its keypoints and their descriptors
+/// under each area hypothesis, each computed when a scan first needs it and kept. A search
+/// sizes one partial on many full shapes; the descriptors under hypothesis $a$ (support
+/// radius $r_0\sqrt{A_N/a}$ in the partial's units) are the same for every full shape, so
+/// they are computed once per query rather than once per shape.
+pub(crate) struct ScaleScan {
+    partial: TriMesh,
+    area: f64,
+    keypoints: Vec<u32>,
+    log_a: Vec<f64>,
+    descriptors: std::sync::Mutex<Vec<Option<std::sync::Arc<Mat<f64>>>>>,
+}
+
+impl ScaleScan {
+    /// The scan of `partial` (any units): nothing is described yet.
+    pub(crate) fn new(partial: TriMesh) -> Result<Self> {
+        let area = partial.area();
+        if !(area > 0.0 && area.is_finite()) {
+            return Err(Error::InvalidArgument("scale = auto: the partial has no area to estimate the scale from".into()));
+        }
+        let n = partial.n_vertices();
+        let step = n.div_ceil(KEYPOINTS).max(1);
+        let keypoints: Vec<u32> = (0..n as u32).step_by(step).collect();
+        let log_a = area_grid();
+        let descriptors = std::sync::Mutex::new(vec![None; log_a.len()]);
+        Ok(ScaleScan { partial, area, keypoints, log_a, descriptors })
     }
-    if full_positions.len() != full_descriptors.nrows() {
-        return Err(Error::InvalidArgument(format!(
-            "scale = auto: {} full-shape descriptors but {} positions",
-            full_descriptors.nrows(),
-            full_positions.len()
-        )));
+
+    /// The partial it scans.
+    pub(crate) fn partial(&self) -> &TriMesh {
+        &self.partial
     }
-    let n = partial.n_vertices();
-    let step = n.div_ceil(KEYPOINTS).max(1);
-    let keypoints: Vec<u32> = (0..n as u32).step_by(step).collect();
-    let log_a = area_grid();
-    let count = log_a.len();
-    let hypothesis = |la: f64| -> Result<Hypothesis> {
-        let s = (10f64.powf(la) / area).sqrt();
+
+    /// The partial's keypoint descriptors under hypothesis `i` of the grid, described once.
+    fn descriptors(&self, i: usize) -> Result<std::sync::Arc<Mat<f64>>> {
+        if let Some(d) = self.descriptors.lock().map_err(|_| Error::Numerical("scale scan: poisoned lock".into()))?[i].clone() {
+            return Ok(d);
+        }
+        let s = (10f64.powf(self.log_a[i]) / self.area).sqrt();
         let radius = shot::DEFAULT_RADIUS_FRACTION / s;
         // Expected support points per keypoint: n pi r^2 / A_N; the cloud is thinned to keep
         // about SUPPORT_PER_KEYPOINT of them (only the small-area hypotheses, whose radius
         // holds most of the partial).
-        let cloud = (SUPPORT_PER_KEYPOINT * area / (std::f64::consts::PI * radius * radius)).max(MIN_SUPPORT_CLOUD) as usize;
-        let d = shot::shot_keypoint_descriptors_thinned(partial, &keypoints, radius, shot::DEFAULT_MIN_NEIGHBORS, cloud)?;
-        let (distances, matches) = nearest_rows(full_descriptors, &d);
-        let distance = distances.iter().sum::<f64>() / distances.len() as f64;
-        let consistency = match_consistency(partial, &keypoints, s, full_positions, &matches);
-        Ok(Hypothesis { distance, consistency })
-    };
-    let (best, costs) = coarse_to_fine_minimum(count, |i| {
-        Ok(hypothesis(log_a[i])?.cost())
-    })?;
-    let cost = |i: usize| costs[i].unwrap_or(f64::INFINITY);
-    let la = if best > 0 && best + 1 < count {
-        let (y0, y1, y2) = (cost(best - 1), cost(best), cost(best + 1));
-        let h = log_a[1] - log_a[0];
-        let curvature = y0 - 2.0 * y1 + y2;
-        let offset = if curvature > 0.0 && curvature.is_finite() { 0.5 * (y0 - y2) / curvature } else { 0.0 };
-        log_a[best] + offset.clamp(-0.5, 0.5) * h
-    } else {
-        log_a[best]
-    };
-    let fraction = 10f64.powf(la);
-    Ok((fraction, (fraction / area).sqrt()))
+        let cloud = (SUPPORT_PER_KEYPOINT * self.area / (std::f64::consts::PI * radius * radius)).max(MIN_SUPPORT_CLOUD) as usize;
+        let d = std::sync::Arc::new(shot::shot_keypoint_descriptors_thinned(&self.partial, &self.keypoints, radius, shot::DEFAULT_MIN_NEIGHBORS, cloud)?);
+        self.descriptors.lock().map_err(|_| Error::Numerical("scale scan: poisoned lock".into()))?[i] = Some(d.clone());
+        Ok(d)
+    }
+
+    /// [`estimate_scale`] of the scanned partial on a full shape: $(a^*, s)$, $s$ the factor
+    /// that brings the scanned partial to the units of the full shape of unit area.
+    pub(crate) fn estimate(&self, full_descriptors: &Mat<f64>, full_positions: &[[f64; 3]]) -> Result<(f64, f64)> {
+        if full_descriptors.nrows() == 0 {
+            return Err(Error::InvalidArgument("scale = auto: no full-shape descriptor to estimate the scale from".into()));
+        }
+        if full_positions.len() != full_descriptors.nrows() {
+            return Err(Error::InvalidArgument(format!(
+                "scale = auto: {} full-shape descriptors but {} positions",
+                full_descriptors.nrows(),
+                full_positions.len()
+            )));
+        }
+        let (log_a, area) = (&self.log_a, self.area);
+        let count = log_a.len();
+        let hypothesis = |i: usize| -> Result<Hypothesis> {
+            let s = (10f64.powf(log_a[i]) / area).sqrt();
+            let d = self.descriptors(i)?;
+            let (distances, matches) = nearest_rows(full_descriptors, &d);
+            let distance = distances.iter().sum::<f64>() / distances.len() as f64;
+            let consistency = match_consistency(&self.partial, &self.keypoints, s, full_positions, &matches);
+            Ok(Hypothesis { distance, consistency })
+        };
+        let (best, costs) = coarse_to_fine_minimum(count, |i| Ok(hypothesis(i)?.cost()))?;
+        let cost = |i: usize| costs[i].unwrap_or(f64::INFINITY);
+        let la = if best > 0 && best + 1 < count {
+            let (y0, y1, y2) = (cost(best - 1), cost(best), cost(best + 1));
+            let h = log_a[1] - log_a[0];
+            let curvature = y0 - 2.0 * y1 + y2;
+            let offset = if curvature > 0.0 && curvature.is_finite() { 0.5 * (y0 - y2) / curvature } else { 0.0 };
+            log_a[best] + offset.clamp(-0.5, 0.5) * h
+        } else {
+            log_a[best]
+        };
+        let fraction = 10f64.powf(la);
+        Ok((fraction, (fraction / area).sqrt()))
+    }
 }
 
 /// One area hypothesis scored: the mean descriptor distance to the full shape and the
@@ -252,6 +297,28 @@ mod tests {
             assert!((0.85..1.18).contains(&error), "factor {factor}: fraction {fraction} vs {truth}");
             assert!((s * factor - 1.0).abs() < 0.18, "factor {factor}: s {s}");
         }
+    }
+
+    /// A scan shared by several full shapes gives each the estimate a fresh scan gives (the
+    /// partial's descriptors do not depend on the full shape), and keeps what it described.
+    #[test]
+    fn a_shared_scan_estimates_as_a_fresh_one() {
+        let described = |mesh: &TriMesh| {
+            let unit = 1.0 / mesh.area().sqrt();
+            let mesh = mesh.map_positions(|p| p.map(|c| c * unit)).unwrap();
+            let keypoints: Vec<u32> = (0..mesh.n_vertices() as u32).collect();
+            let d = shot::shot_keypoint_descriptors(&mesh, &keypoints, shot::DEFAULT_RADIUS_FRACTION, shot::DEFAULT_MIN_NEIGHBORS).unwrap();
+            (d, mesh)
+        };
+        let (d4, f4) = described(&figure(4, &default_limbs()).unwrap());
+        let (d3, f3) = described(&figure(3, &default_limbs()).unwrap());
+        let (cut, _) = cut_by_plane(&f4, [0.3, 1.0, 0.2], 0.0).unwrap();
+        let shared = ScaleScan::new(cut.clone()).unwrap();
+        for (d, f) in [(&d4, &f4), (&d3, &f3), (&d4, &f4)] {
+            let fresh = ScaleScan::new(cut.clone()).unwrap().estimate(d, f.vertices()).unwrap();
+            assert_eq!(shared.estimate(d, f.vertices()).unwrap(), fresh);
+        }
+        assert!(shared.descriptors.lock().unwrap().iter().any(Option::is_some));
     }
 
     /// On costs that fall, then rise, the scan finds the lowest of all with at most 17 of 25

@@ -23,7 +23,7 @@ pub use crate::mesh::intake::HostNumbering;
 pub use persist::EXTENSION;
 pub use options::{option_spec, options_schema_json, Mode, OptionKind, OptionSpec, Options, Scale, MIN_RESOLUTION, OPTIONS, REMOVED_OPTIONS};
 pub use result::{Candidate, CandidateScore, Localization, Timings};
-pub(crate) use stages::Effort;
+pub(crate) use stages::{Effort, SharedPartial};
 
 use crate::error::{Error, Result};
 use crate::mesh::TriMesh;
@@ -148,12 +148,18 @@ impl Localizer {
                 )));
             }
         }
-        stages::locate(self, partial, initial_regions, Effort::of(&self.options), progress)
+        stages::locate(self, &SharedPartial::new(partial), initial_regions, Effort::of(&self.options), progress)
     }
 
     /// [`Localizer::locate`] with at most `effort`'s iterations and plane-cut starts: the
     /// quick localizations that rank a search's shortlist.
     pub(crate) fn locate_with_effort(&self, partial: &TriMesh, effort: Effort, progress: &Progress) -> Result<Localization> {
+        stages::locate(self, &SharedPartial::new(partial), &[], effort, progress)
+    }
+
+    /// [`Localizer::locate_with_effort`] of a partial other localizations share (a search's):
+    /// what they all need of it alone is prepared once ([`SharedPartial`]).
+    pub(crate) fn locate_shared(&self, partial: &SharedPartial<'_>, effort: Effort, progress: &Progress) -> Result<Localization> {
         stages::locate(self, partial, &[], effort, progress)
     }
 
@@ -171,7 +177,7 @@ impl Localizer {
     /// scale estimate.
     #[cfg_attr(not(feature = "lab"), allow(dead_code))] // used by the lab
     pub(crate) fn partial_factor(&self, partial: &TriMesh) -> Result<f64> {
-        self.workers.install(|| stages::partial_in_full_units(self, partial)).map(|(_, factor, _)| factor)
+        self.workers.install(|| stages::partial_in_full_units(self, &SharedPartial::new(partial))).map(|(_, factor, _)| factor)
     }
 
     /// The options it was prepared with.

@@ -4,6 +4,7 @@
 
 use super::{Candidate, Localization, Localizer, OptimisationMesh, Options, Scale, Timings};
 use crate::alignment::cost::{potential_from_w, AlignmentCost, SpectrumTerm};
+use crate::alignment::scale::ScaleScan;
 use crate::alignment::starts::{self, Start};
 use crate::alignment::trust_region::{minimize, HessianOperator, Point, TrustRegionInfo, TrustRegionParams};
 use crate::error::{Error, MeshError, Result};
@@ -307,7 +308,7 @@ impl Effort {
 }
 
 /// The stages for one partial, with `effort` (at most the localizer's options).
-pub(super) fn locate(loc: &Localizer, partial: &TriMesh, initial_regions: &[Vec<bool>], effort: Effort, progress: &Progress) -> Result<Localization> {
+pub(super) fn locate(loc: &Localizer, partial: &SharedPartial<'_>, initial_regions: &[Vec<bool>], effort: Effort, progress: &Progress) -> Result<Localization> {
     let effort = effort.min(Effort::of(&loc.options));
     let clock = Clock::start();
     progress.report(0.0, "preprocessing")?;
@@ -351,7 +352,7 @@ pub(super) fn locate(loc: &Localizer, partial: &TriMesh, initial_regions: &[Vec<
 /// what the optimisation begins from (a diagnostic; [`Localizer::start_regions`]).
 #[cfg_attr(not(feature = "lab"), allow(dead_code))] // used by the lab and the tests
 pub(super) fn start_regions(loc: &Localizer, partial: &TriMesh) -> Result<Vec<(String, Vec<bool>)>> {
-    let (target, level, _) = target_on_its_mesh(loc, partial, loc.options.k, &Progress::none())?;
+    let (target, level, _) = target_on_its_mesh(loc, &SharedPartial::new(partial), loc.options.k, &Progress::none())?;
     starts_for(&level, &target, &[], loc.options.plane_cuts)
         .into_iter()
         .map(|s| {
@@ -364,21 +365,57 @@ pub(super) fn start_regions(loc: &Localizer, partial: &TriMesh) -> Result<Vec<(S
 
 /// Stage 1 with the optimisation mesh it chooses ([`Localizer::level_for`]) and the notes on
 /// that mesh: the target's descriptor matches are on that mesh.
-fn target_on_its_mesh(loc: &Localizer, partial: &TriMesh, k: usize, progress: &Progress) -> Result<(Target, Arc<OptimisationMesh>, Vec<String>)> {
+fn target_on_its_mesh(loc: &Localizer, partial: &SharedPartial<'_>, k: usize, progress: &Progress) -> Result<(Target, Arc<OptimisationMesh>, Vec<String>)> {
     let mut target = loc.workers.install(|| target(loc, partial, k))?;
     let (level, notes) = loc.level_for(&target, progress)?;
     target.matches = starts::descriptor_matches(&level.coarse_descriptors, &target.descriptors);
     Ok((target, level, notes))
 }
 
-/// The partial's largest component in the units of the localizer's unit-area full shape
-/// (the `scale` option applied or estimated), decimated above [`MAX_PARTIAL_VERTICES`]; the
-/// factor the caller's partial was multiplied by (beside the full shape's own normalisation)
-/// and the notes on the way.
-pub(super) fn partial_in_full_units(loc: &Localizer, partial: &TriMesh) -> Result<(TriMesh, f64, Vec<String>)> {
-    let options = &loc.options;
-    let mut warnings = Vec::new();
+/// A partial as the localizations of one search share it: with `scale = auto`, its largest
+/// component at unit area, decimated above [`MAX_PARTIAL_VERTICES`], and its scale scan
+/// ([`ScaleScan`]: the partial's descriptors under each area hypothesis), made by the first
+/// localization that needs them and reused by the others.
+pub(crate) struct SharedPartial<'a> {
+    mesh: &'a TriMesh,
+    auto: std::sync::OnceLock<AutoPartial>,
+}
+
+/// The `scale = auto` preparation of a partial ([`SharedPartial`]).
+struct AutoPartial {
+    /// Scans the largest component times `unit`, decimated.
+    scan: ScaleScan,
+    /// $1/\sqrt{A}$ of the largest component.
+    unit: f64,
+    warnings: Vec<String>,
+}
+
+impl<'a> SharedPartial<'a> {
+    /// `mesh`, nothing prepared yet.
+    pub(crate) fn new(mesh: &'a TriMesh) -> Self {
+        SharedPartial { mesh, auto: std::sync::OnceLock::new() }
+    }
+
+    /// The `scale = auto` preparation, made on first use.
+    fn auto(&self) -> Result<&AutoPartial> {
+        if let Some(a) = self.auto.get() {
+            return Ok(a);
+        }
+        let (component, warnings) = largest_component_noted(self.mesh)?;
+        let area = component.area();
+        if !(area > 0.0 && area.is_finite()) {
+            return Err(Error::InvalidArgument("scale = auto: the partial has no area to estimate the scale from".into()));
+        }
+        let unit = 1.0 / area.sqrt();
+        let scan = ScaleScan::new(decimated(component.map_positions(|p| p.map(|c| c * unit))?))?;
+        Ok(self.auto.get_or_init(|| AutoPartial { scan, unit, warnings }))
+    }
+}
+
+/// `partial`'s largest connected component, and a warning if that drops any of it.
+fn largest_component_noted(partial: &TriMesh) -> Result<(TriMesh, Vec<String>)> {
     let (component, dropped) = largest_component(partial)?;
+    let mut warnings = Vec::new();
     if dropped {
         warnings.push(format!(
             "the partial shape is disconnected: only its largest component ({} of {} vertices) is localized",
@@ -386,32 +423,45 @@ pub(super) fn partial_in_full_units(loc: &Localizer, partial: &TriMesh) -> Resul
             partial.n_vertices()
         ));
     }
-    let given_factor = match options.scale {
-        Scale::Factor(f) => f,
-        Scale::Same | Scale::Auto => 1.0,
-    };
-    let mut scaled = component.map_positions(|p| p.map(|c| c * loc.scale * given_factor))?;
-    if scaled.n_vertices() > MAX_PARTIAL_VERTICES {
-        // If the collapse fails validation, the partial is used as it is (slower, not worse).
-        let fraction = MAX_PARTIAL_VERTICES as f64 / scaled.n_vertices() as f64;
-        if let Ok(coarser) = crate::mesh::decimate::decimate(&scaled, fraction) {
-            scaled = coarser.mesh;
+    Ok((component, warnings))
+}
+
+/// `partial` decimated to about [`MAX_PARTIAL_VERTICES`] when it has more (as it is if the
+/// collapse fails validation: slower, not worse).
+fn decimated(partial: TriMesh) -> TriMesh {
+    if partial.n_vertices() > MAX_PARTIAL_VERTICES {
+        let fraction = MAX_PARTIAL_VERTICES as f64 / partial.n_vertices() as f64;
+        if let Ok(coarser) = crate::mesh::decimate::decimate(&partial, fraction) {
+            return coarser.mesh;
         }
     }
-    let factor = if options.scale == Scale::Auto {
-        let (_, s) = crate::alignment::scale::estimate_scale(&loc.level.coarse_descriptors, loc.level.coarse.mesh().vertices(), &scaled)?;
-        scaled = scaled.map_positions(|p| p.map(|c| c * s))?;
-        s
-    } else {
-        given_factor
+    partial
+}
+
+/// The partial's largest component in the units of the localizer's unit-area full shape
+/// (the `scale` option applied or estimated), decimated above [`MAX_PARTIAL_VERTICES`]; the
+/// factor the caller's partial was multiplied by (beside the full shape's own normalisation)
+/// and the notes on the way.
+pub(super) fn partial_in_full_units(loc: &Localizer, partial: &SharedPartial<'_>) -> Result<(TriMesh, f64, Vec<String>)> {
+    let given_factor = match loc.options.scale {
+        Scale::Factor(f) => f,
+        Scale::Same => 1.0,
+        Scale::Auto => {
+            let auto = partial.auto()?;
+            let (_, s) = auto.scan.estimate(&loc.level.coarse_descriptors, loc.level.coarse.mesh().vertices())?;
+            let scaled = auto.scan.partial().map_positions(|p| p.map(|c| c * s))?;
+            return Ok((scaled, auto.unit * s / loc.scale, auto.warnings.clone()));
+        }
     };
-    Ok((scaled, factor, warnings))
+    let (component, warnings) = largest_component_noted(partial.mesh)?;
+    let scaled = decimated(component.map_positions(|p| p.map(|c| c * loc.scale * given_factor))?);
+    Ok((scaled, given_factor, warnings))
 }
 
 /// Stage 1: the partial's largest component, scaled; its Dirichlet spectra (`k` eigenvalues
 /// each, split as the mode says) and descriptors (their matches on the optimisation mesh are
 /// left to [`target_on_its_mesh`]).
-fn target(loc: &Localizer, partial: &TriMesh, k: usize) -> Result<Target> {
+fn target(loc: &Localizer, partial: &SharedPartial<'_>, k: usize) -> Result<Target> {
     let options = &loc.options;
     let (scaled, factor, mut warnings) = partial_in_full_units(loc, partial)?;
     let area = scaled.area();

@@ -15,7 +15,7 @@ mod screen;
 pub use screen::{Screen, ScreenEntry, SCREEN_EXTENSION};
 
 use crate::error::{Error, Result};
-use crate::localizer::{Effort, Localization, Localizer};
+use crate::localizer::{Effort, Localization, Localizer, SharedPartial};
 use crate::mesh::TriMesh;
 use crate::progress::Progress;
 use serde::{Deserialize, Serialize};
@@ -78,7 +78,7 @@ where
     E: From<Error>,
 {
     let indices: Vec<usize> = (0..n).collect();
-    let Pass { mut kept, first_error, located } = locate_each(partial, &indices, open, None, top, progress)?;
+    let Pass { mut kept, first_error, located } = locate_each(&SharedPartial::new(partial), &indices, open, None, top, progress)?;
     every_shape_failed(&kept, first_error)?;
     // Each kept shape's confidence among every located one, kept or not.
     set_search_confidences(&mut kept, &located);
@@ -104,7 +104,7 @@ const RANKING_COST: f64 = 0.3;
 /// localization's [`Match::quick`] is set): the `top` best [`Match`]es in ranking order and
 /// what else the pass found ([`Pass`]).
 fn locate_each<L, E>(
-    partial: &TriMesh,
+    partial: &SharedPartial<'_>,
     indices: &[usize],
     mut open: impl FnMut(usize, &Progress) -> std::result::Result<L, E>,
     effort: Option<Effort>,
@@ -126,8 +126,8 @@ where
             let shape = open(index, &part.sub(0.0, 0.1))?;
             let shape = shape.borrow();
             match effort {
-                Some(effort) => shape.locate_with_effort(partial, effort, &part.sub(0.1, 1.0)),
-                None => shape.locate(partial, &part.sub(0.1, 1.0)),
+                Some(effort) => shape.locate_shared(partial, effort, &part.sub(0.1, 1.0)),
+                None => shape.locate_shared(partial, Effort::of(shape.options()), &part.sub(0.1, 1.0)),
             }
         };
         let m = match outcome {
@@ -202,18 +202,19 @@ where
     }
     let screened = screen.rank(partial, scale, &progress.sub(0.0, 0.05))?;
     let chosen: Vec<usize> = screened.iter().take(shortlist).map(|r| r.0).collect();
+    let shared = SharedPartial::new(partial);
     let mut found = if in_two_stages(chosen.len(), screened.len()) {
         let ranking_share = RANKING_COST * chosen.len() as f64;
         let split = 0.05 + 0.95 * ranking_share / (ranking_share + REFINED_SHAPES as f64);
-        let Pass { kept: quick, first_error, .. } = locate_each(partial, &chosen, &mut open, Some(RANKING_EFFORT), usize::MAX, &progress.sub(0.05, split))?;
+        let Pass { kept: quick, first_error, .. } = locate_each(&shared, &chosen, &mut open, Some(RANKING_EFFORT), usize::MAX, &progress.sub(0.05, split))?;
         every_shape_failed(&quick, first_error)?;
         let best = shapes_to_refine(&scored(&quick));
-        let Pass { kept: full, .. } = locate_each(partial, &best, &mut open, None, usize::MAX, &progress.sub(split, 1.0))?;
+        let Pass { kept: full, .. } = locate_each(&shared, &best, &mut open, None, usize::MAX, &progress.sub(split, 1.0))?;
         let order = two_stage_order(&scored(&full), &scored(&quick));
         let (mut full, mut quick): (Vec<Option<Match>>, Vec<Option<Match>>) = (full.into_iter().map(Some).collect(), quick.into_iter().map(Some).collect());
         order.into_iter().filter_map(|(is_quick, at)| if is_quick { quick[at].take() } else { full[at].take() }).collect()
     } else {
-        let Pass { kept: found, first_error, .. } = locate_each(partial, &chosen, &mut open, None, usize::MAX, &progress.sub(0.05, 1.0))?;
+        let Pass { kept: found, first_error, .. } = locate_each(&shared, &chosen, &mut open, None, usize::MAX, &progress.sub(0.05, 1.0))?;
         every_shape_failed(&found, first_error)?;
         found
     };
