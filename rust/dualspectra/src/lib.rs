@@ -103,6 +103,11 @@ pub mod lab {
         screen.rank_with(partial, scale, relative, &Progress::none())
     }
 
+    /// How alike two models of a screen look to it (`Screen::model_distance`).
+    pub fn screen_model_distance(screen: &crate::search::Screen, i: usize, j: usize) -> f64 {
+        screen.model_distance(i, j)
+    }
+
     /// [`crate::search::Screen::new`] with `dimensions` principal directions (352: none).
     pub fn screen_with_dimensions(entries: &[crate::search::ScreenEntry], dimensions: usize) -> Result<crate::search::Screen> {
         crate::search::Screen::with_dimensions(entries, dimensions)

@@ -186,28 +186,34 @@ fn match_consistency(partial: &TriMesh, keypoints: &[u32], s: f64, full_position
 /// index, then every index within `COARSE_STRIDE - 1` of each of the [`REFINED_MINIMA`]
 /// lowest local minima of that scan; the costs evaluated (`None`: skipped). The minimum found
 /// has both its neighbours evaluated, and is the lowest of all when it lies within one of
-/// those windows (always for costs that fall, then rise).
-fn coarse_to_fine_minimum(count: usize, mut cost_of: impl FnMut(usize) -> Result<f64>) -> Result<(usize, Vec<Option<f64>>)> {
+/// those windows (always for costs that fall, then rise). Each pass scores its indices in
+/// parallel.
+fn coarse_to_fine_minimum(count: usize, cost_of: impl Fn(usize) -> Result<f64> + Sync) -> Result<(usize, Vec<Option<f64>>)> {
+    use rayon::prelude::*;
     let mut costs: Vec<Option<f64>> = vec![None; count];
-    let mut evaluate = |i: usize, costs: &mut [Option<f64>]| -> Result<f64> {
-        if costs[i].is_none() {
-            costs[i] = Some(cost_of(i)?);
+    // Each pass's new indices are scored side by side (each cost is independent of the others).
+    let evaluate = |wanted: Vec<usize>, costs: &mut [Option<f64>]| -> Result<()> {
+        let fresh: Vec<usize> = wanted.into_iter().filter(|&i| costs[i].is_none()).collect();
+        let values = fresh.par_iter().map(|&i| cost_of(i)).collect::<Result<Vec<f64>>>()?;
+        for (i, v) in fresh.into_iter().zip(values) {
+            costs[i] = Some(v);
         }
-        Ok(costs[i].unwrap_or(f64::INFINITY))
+        Ok(())
     };
     let coarse: Vec<usize> = (0..count).step_by(COARSE_STRIDE).collect();
-    let coarse_costs = coarse.iter().map(|&i| evaluate(i, &mut costs)).collect::<Result<Vec<f64>>>()?;
+    evaluate(coarse.clone(), &mut costs)?;
+    let coarse_costs: Vec<f64> = coarse.iter().map(|&i| costs[i].unwrap_or(f64::INFINITY)).collect();
     // Local minima of the first pass; a flat stretch counts once (at its start).
     let mut minima: Vec<usize> = (0..coarse.len())
         .filter(|&j| (j == 0 || coarse_costs[j] < coarse_costs[j - 1]) && (j + 1 == coarse.len() || coarse_costs[j] <= coarse_costs[j + 1]))
         .collect();
     minima.sort_by(|&a, &b| coarse_costs[a].total_cmp(&coarse_costs[b]).then(a.cmp(&b)));
+    let mut refined = Vec::new();
     for &j in minima.iter().take(REFINED_MINIMA) {
         let centre = coarse[j];
-        for i in centre.saturating_sub(COARSE_STRIDE - 1)..(centre + COARSE_STRIDE).min(count) {
-            evaluate(i, &mut costs)?;
-        }
+        refined.extend(centre.saturating_sub(COARSE_STRIDE - 1)..(centre + COARSE_STRIDE).min(count));
     }
+    evaluate(refined, &mut costs)?;
     let cost = |i: usize| costs[i].unwrap_or(f64::INFINITY);
     let best = (0..count).min_by(|&a, &b| cost(a).total_cmp(&cost(b))).unwrap_or(0);
     Ok((best, costs))
@@ -327,12 +333,13 @@ mod tests {
     #[test]
     fn coarse_to_fine_scan_finds_a_single_minimum() {
         for m in 0..25usize {
-            let mut evaluated = 0;
+            let evaluated = std::sync::atomic::AtomicUsize::new(0);
             let (best, costs) = coarse_to_fine_minimum(25, |i| {
-                evaluated += 1;
+                evaluated.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
                 Ok((i as f64 - m as f64 - 0.3).powi(2))
             })
             .unwrap();
+            let evaluated = evaluated.into_inner();
             assert_eq!(best, m);
             assert!(evaluated <= 17, "{evaluated} evaluations");
             assert_eq!(costs.iter().filter(|c| c.is_some()).count(), evaluated);

@@ -350,6 +350,20 @@ impl Screen {
     }
 }
 
+impl Screen {
+    /// How alike models `i` and `j` look to the screen: the mean distance from each model's
+    /// keypoint descriptors to the other's nearest, averaged both ways (0 for a model and
+    /// itself; deformed copies of one shape are near, other shapes far).
+    pub(crate) fn model_distance(&self, i: usize, j: usize) -> f64 {
+        let (a, b) = (&self.models[i], &self.models[j]);
+        let one_way = |from: &Projected, to: &Projected| {
+            let d = nearest_distances(&to.rows, &to.norms2, from.rows.as_ref());
+            if d.is_empty() { f64::INFINITY } else { d.iter().map(|&x| x as f64).sum::<f64>() / d.len() as f64 }
+        };
+        0.5 * (one_way(a, b) + one_way(b, a))
+    }
+}
+
 /// The payload of a screen file, every count checked against the bytes left.
 fn read_screen(r: &mut Reader<'_>) -> std::result::Result<Screen, String> {
     let dim = shot::SHOT_DIM;
