@@ -1,7 +1,7 @@
 """Fit the search's confidence across models (search::search_confidence), and report how well
 it tells the right model from the wrong ones over library queries.
 
-    python fit_search_confidence.py SEARCH.jsonl [FEATURES ...]
+    python fit_search_confidence.py SEARCH.jsonl [--distances DISTANCES.json] [FEATURES ...]
 
 SEARCH.jsonl: `cargo run --release -p dualspectra-lab --example research_search -- DATA
 SEARCH.jsonl` (every dev partial searched in the 180 models of `library/`, shortlist 10; one
@@ -13,7 +13,11 @@ the lowest score of the other located models, clamped to 1 and 0.05, in units of
 query's located scores less the lowest, clamped to 3), margin
 (lead - gap), logit (the logit of the localization's confidence, clamped to [1e-6, 1 - 1e-6]),
 quick (1 for a quick localization), score (the similarity score itself, units of 0.01), position (0 for the best, 1 for the second...), first,
-screen_gap (the screen score's gap to the query's best, units of 0.01); default: logit;
+screen_gap (the screen score's gap to the query's best, units of 0.01), best_logit (the logit
+of the best model's localization confidence), and with --distances (`research_model_distances
+DATA DISTANCES.json`: the screen's distance between every two library models) kin (the located
+model's distance to the best located model, 0 for the best) and rkin (kin over its median
+among the other located models, clamped to 3); default: logit;
 gap,logit; gap,lead,logit; rgap,lead,logit; mgap,lead,logit (the product's
 search_confidences).
 A logistic model (Newton, L2 0.1) is fitted on every row and reported by the area under the
@@ -32,7 +36,12 @@ MAX_LEAD = 0.05
 CLAMP = 1e-6
 
 
-def rows(path, max_gap=MAX_GAP, max_lead=MAX_LEAD):
+def rows(path, max_gap=MAX_GAP, max_lead=MAX_LEAD, distances=None):
+    """One row per located model of every query. `distances`: the screen's model distances
+    (`research_model_distances`), for the kin features."""
+    if distances is not None:
+        index = {n: i for i, n in enumerate(distances['names'])}
+        D = distances['distances']
     for line in open(path):
         q = json.loads(line)
         located = [m for m in q['ranking'] if m['located'] and m['score'] is not None]
@@ -41,11 +50,19 @@ def rows(path, max_gap=MAX_GAP, max_lead=MAX_LEAD):
         screen = [m['screen_score'] for m in q['ranking'] if m.get('screen_score') is not None]
         screen_best = min(screen) if screen else 0.0
         scores = sorted(m['score'] for m in located)
+        best = min(located, key=lambda m: m['score'])
+        if distances is not None:
+            # How alike each located model looks to the best one, over the median of that
+            # among the others.
+            to_best = [D[index[m['model']]][index[best['model']]] for m in located]
+            spread = sorted(d for m, d in zip(located, to_best) if m is not best)
+            spread = max(spread[len(spread) // 2], 1e-12)
         for i, m in enumerate(located):
             best_other = min(o['score'] for j, o in enumerate(located) if j != i)
             diff = min(max(m['score'] - best_other, -max_lead), max_gap)
             p = min(max(m['confidence'], CLAMP), 1 - CLAMP)
-            yield dict(
+            best_p = min(max(best['confidence'], CLAMP), 1 - CLAMP)
+            row = dict(
                 set=q['set'], partial=q['partial'], label=int(m['class'] == q['right']), conf=m['confidence'],
                 gap=max(diff, 0.0) / 0.01, lead=max(-diff, 0.0) / 0.01, margin=-diff / 0.01,
                 logit=math.log(p / (1 - p)), quick=float(m['quick']), score=m['score'] / 0.01,
@@ -53,7 +70,12 @@ def rows(path, max_gap=MAX_GAP, max_lead=MAX_LEAD):
                 rgap=max(diff, 0.0) / max(scores[-1] - scores[0], 1e-12),
                 mgap=min(max(diff, 0.0) / max(scores[len(scores) // 2] - scores[0], 1e-12), 3.0),
                 screen_gap=((m.get('screen_score') or screen_best) - screen_best) / 0.01,
+                best_logit=math.log(best_p / (1 - best_p)),
             )
+            if distances is not None:
+                row['kin'] = to_best[i] if m is not best else 0.0
+                row['rkin'] = min(to_best[i] / spread, 3.0) if m is not best else 0.0
+            yield row
 
 
 def matrix(R, features):
@@ -78,7 +100,14 @@ def report(R, name, score):
 
 
 if __name__ == '__main__':
-    R = list(rows(sys.argv[1]))
+    args = sys.argv[1:]
+    distances = None
+    if '--distances' in args:
+        at = args.index('--distances')
+        distances = json.load(open(args[at + 1]))
+        del args[at:at + 2]
+    sys.argv = [sys.argv[0]] + args
+    R = list(rows(sys.argv[1], distances=distances))
     sets = sorted({r['set'] for r in R})
     print(f"{len(R)} located models ({sum(r['label'] for r in R)} right) of "
           f"{len({(r['set'], r['partial']) for r in R})} queries\n")

@@ -103,8 +103,8 @@ pub mod lab {
         screen.rank_with(partial, scale, relative, &Progress::none())
     }
 
-    /// How alike two models of a screen look to it (`Screen::model_distance`).
-    pub fn screen_model_distance(screen: &crate::search::Screen, i: usize, j: usize) -> f64 {
+    /// How alike models `i` and `j` of a screen look to it (`None`: an index out of range).
+    pub fn screen_model_distance(screen: &crate::search::Screen, i: usize, j: usize) -> Option<f64> {
         screen.model_distance(i, j)
     }
 

@@ -348,7 +348,8 @@ fn results_do_not_depend_on_the_thread_count() {
 }
 
 /// A partial with holes is optimised on the finer mesh ([`dualspectra::lab::FINE_RESOLUTION_FACTOR`]
-/// x `resolution`) without plane-cut starts, a clean cut on the prepared one with them; the
+/// x `resolution`) without plane-cut starts, a clean cut on the prepared one with them (and
+/// so is the partial with holes by a search's quick localization); the
 /// finer mesh is built on first use, so a saved and loaded localizer (which does not store it)
 /// gives the same result bit for bit.
 #[test]
@@ -382,6 +383,9 @@ fn a_partial_with_holes_is_optimised_on_the_finer_mesh_without_plane_starts() {
     assert_eq!(planes(&found_clean), o.plane_cuts);
     assert_eq!(planes(&found), 0);
     assert!(found.candidates.iter().any(|c| c.label == "descriptor-vote"));
+    // A search's quick localization, which only ranks its shortlist, stays on the prepared mesh.
+    let quick = dualspectra::search::locate_quick(&localizer, &holed, &Progress::none()).unwrap();
+    assert_eq!(quick.optimisation_vertices, coarse);
     let loaded = Localizer::from_bytes(&localizer.to_bytes()).unwrap();
     let again = loaded.locate(&holed, &Progress::none()).unwrap();
     assert_eq!(again.region, found.region);

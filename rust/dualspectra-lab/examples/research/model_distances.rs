@@ -26,7 +26,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     let screen = Screen::new(&entries)?;
     let n = names.len();
-    let distances: Vec<Vec<f64>> = (0..n).map(|i| (0..n).map(|j| lab::screen_model_distance(&screen, i, j)).collect()).collect();
+    let distances: Vec<Vec<f64>> = (0..n).map(|i| (0..n).map(|j| lab::screen_model_distance(&screen, i, j).unwrap_or(f64::INFINITY)).collect()).collect();
     let (mut same, mut other) = (Vec::new(), Vec::new());
     for i in 0..n {
         for j in i + 1..n {

@@ -38,15 +38,7 @@ const MIN_SUPPORT_CLOUD: f64 = 500.0;
 /// Partial keypoints described per hypothesis.
 const KEYPOINTS: usize = 200;
 
-/// The estimated area fraction $a^*$ and the factor $s = \sqrt{a^* / A_N}$ that brings
-/// `partial` (area $A_N$, in the units of a full shape of unit area, possibly wrong) to the
-/// full shape's units. `full_descriptors`: SHOT at [`shot::DEFAULT_RADIUS_FRACTION`] on the
-/// full shape of unit area (rows: keypoints), taken at `full_positions` (one per row).
-pub fn estimate_scale(full_descriptors: &Mat<f64>, full_positions: &[[f64; 3]], partial: &TriMesh) -> Result<(f64, f64)> {
-    ScaleScan::new(partial.clone())?.estimate(full_descriptors, full_positions)
-}
-
-/// What [`estimate_scale`] needs of the partial alone: its keypoints and their descriptors
+/// The partial's side of the scale estimate: its keypoints and their descriptors
 /// under each area hypothesis, each computed when a scan first needs it and kept. A search
 /// sizes one partial on many full shapes; the descriptors under hypothesis $a$ (support
 /// radius $r_0\sqrt{A_N/a}$ in the partial's units) are the same for every full shape, so
@@ -95,8 +87,11 @@ impl ScaleScan {
         Ok(d)
     }
 
-    /// [`estimate_scale`] of the scanned partial on a full shape: $(a^*, s)$, $s$ the factor
-    /// that brings the scanned partial to the units of the full shape of unit area.
+    /// The estimated area fraction $a^*$ of the scanned partial (area $A_N$, in the units of a
+    /// full shape of unit area, possibly wrong) on a full shape, and the factor
+    /// $s = \sqrt{a^* / A_N}$ that brings it to the full shape's units. `full_descriptors`: SHOT
+    /// at [`shot::DEFAULT_RADIUS_FRACTION`] on the full shape of unit area (rows: keypoints),
+    /// taken at `full_positions` (one per row).
     pub(crate) fn estimate(&self, full_descriptors: &Mat<f64>, full_positions: &[[f64; 3]]) -> Result<(f64, f64)> {
         if full_descriptors.nrows() == 0 {
             return Err(Error::InvalidArgument("scale = auto: no full-shape descriptor to estimate the scale from".into()));
@@ -298,7 +293,7 @@ mod tests {
         assert!((0.1..0.9).contains(&truth), "cut area {truth}");
         for factor in [1e-3, 1.0, 1e3] {
             let given = cut.map_positions(|p| p.map(|c| c * factor)).unwrap();
-            let (fraction, s) = estimate_scale(&descriptors, full.vertices(), &given).unwrap();
+            let (fraction, s) = ScaleScan::new(given).unwrap().estimate(&descriptors, full.vertices()).unwrap();
             let error = (fraction / truth).sqrt();
             assert!((0.85..1.18).contains(&error), "factor {factor}: fraction {fraction} vs {truth}");
             assert!((s * factor - 1.0).abs() < 0.18, "factor {factor}: s {s}");
@@ -389,8 +384,9 @@ mod tests {
     #[test]
     fn no_full_shape_descriptor_is_an_error() {
         let mesh = crate::mesh::generate::grid(1.0, 1.0, 3, 3);
-        assert!(estimate_scale(&Mat::zeros(0, 352), &[], &mesh).is_err());
+        let scan = ScaleScan::new(mesh).unwrap();
+        assert!(scan.estimate(&Mat::zeros(0, 352), &[]).is_err());
         // Descriptors without one position each.
-        assert!(estimate_scale(&Mat::zeros(2, 352), &[[0.0; 3]], &mesh).is_err());
+        assert!(scan.estimate(&Mat::zeros(2, 352), &[[0.0; 3]]).is_err());
     }
 }

@@ -286,24 +286,31 @@ struct Scored {
 }
 
 /// How much of the method a localization runs: trust-region iterations per start, plane-cut
-/// starts and eigenvalues per spectrum (each at most the localizer's options; [`Effort::of`]
-/// is all of them).
+/// starts, eigenvalues per spectrum (each at most the localizer's options) and whether a
+/// partial with holes is optimised on the finer mesh ([`FINE_RESOLUTION_FACTOR`]);
+/// [`Effort::of`] is all of it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct Effort {
     pub max_iterations: usize,
     pub plane_cuts: usize,
     pub k: usize,
+    pub finer_mesh: bool,
 }
 
 impl Effort {
     /// What `options` ask for.
     pub(crate) fn of(options: &crate::localizer::Options) -> Effort {
-        Effort { max_iterations: options.max_iterations, plane_cuts: options.plane_cuts, k: options.k }
+        Effort { max_iterations: options.max_iterations, plane_cuts: options.plane_cuts, k: options.k, finer_mesh: true }
     }
 
     /// The smaller of each.
     pub(crate) fn min(self, other: Effort) -> Effort {
-        Effort { max_iterations: self.max_iterations.min(other.max_iterations), plane_cuts: self.plane_cuts.min(other.plane_cuts), k: self.k.min(other.k) }
+        Effort {
+            max_iterations: self.max_iterations.min(other.max_iterations),
+            plane_cuts: self.plane_cuts.min(other.plane_cuts),
+            k: self.k.min(other.k),
+            finer_mesh: self.finer_mesh && other.finer_mesh,
+        }
     }
 }
 
@@ -312,7 +319,7 @@ pub(super) fn locate(loc: &Localizer, partial: &SharedPartial<'_>, initial_regio
     let effort = effort.min(Effort::of(&loc.options));
     let clock = Clock::start();
     progress.report(0.0, "preprocessing")?;
-    let (target, level, level_notes) = target_on_its_mesh(loc, partial, effort.k, progress)?;
+    let (target, level, level_notes) = target_on_its_mesh(loc, partial, effort, progress)?;
     let t_pre = clock.lap();
     progress.report(0.05, "starts")?;
     let starts = starts_for(&level, &target, initial_regions, effort.plane_cuts);
@@ -352,7 +359,7 @@ pub(super) fn locate(loc: &Localizer, partial: &SharedPartial<'_>, initial_regio
 /// what the optimisation begins from (a diagnostic; [`Localizer::start_regions`]).
 #[cfg_attr(not(feature = "lab"), allow(dead_code))] // used by the lab and the tests
 pub(super) fn start_regions(loc: &Localizer, partial: &TriMesh) -> Result<Vec<(String, Vec<bool>)>> {
-    let (target, level, _) = target_on_its_mesh(loc, &SharedPartial::new(partial), loc.options.k, &Progress::none())?;
+    let (target, level, _) = target_on_its_mesh(loc, &SharedPartial::new(partial), Effort::of(&loc.options), &Progress::none())?;
     starts_for(&level, &target, &[], loc.options.plane_cuts)
         .into_iter()
         .map(|s| {
@@ -363,11 +370,12 @@ pub(super) fn start_regions(loc: &Localizer, partial: &TriMesh) -> Result<Vec<(S
         .collect()
 }
 
-/// Stage 1 with the optimisation mesh it chooses ([`Localizer::level_for`]) and the notes on
-/// that mesh: the target's descriptor matches are on that mesh.
-fn target_on_its_mesh(loc: &Localizer, partial: &SharedPartial<'_>, k: usize, progress: &Progress) -> Result<(Target, Arc<OptimisationMesh>, Vec<String>)> {
-    let mut target = loc.workers.install(|| target(loc, partial, k))?;
-    let (level, notes) = loc.level_for(&target, progress)?;
+/// Stage 1 with the optimisation mesh it chooses ([`Localizer::level_for`]; the regular one
+/// when `effort` leaves out the finer mesh) and the notes on that mesh: the target's
+/// descriptor matches are on that mesh.
+fn target_on_its_mesh(loc: &Localizer, partial: &SharedPartial<'_>, effort: Effort, progress: &Progress) -> Result<(Target, Arc<OptimisationMesh>, Vec<String>)> {
+    let mut target = loc.workers.install(|| target(loc, partial, effort.k))?;
+    let (level, notes) = if effort.finer_mesh { loc.level_for(&target, progress)? } else { (loc.level.clone(), Vec::new()) };
     target.matches = starts::descriptor_matches(&level.coarse_descriptors, &target.descriptors);
     Ok((target, level, notes))
 }

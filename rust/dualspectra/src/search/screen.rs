@@ -353,14 +353,16 @@ impl Screen {
 impl Screen {
     /// How alike models `i` and `j` look to the screen: the mean distance from each model's
     /// keypoint descriptors to the other's nearest, averaged both ways (0 for a model and
-    /// itself; deformed copies of one shape are near, other shapes far).
-    pub(crate) fn model_distance(&self, i: usize, j: usize) -> f64 {
-        let (a, b) = (&self.models[i], &self.models[j]);
+    /// itself; deformed copies of one shape are near, other shapes far). `None` for an index
+    /// out of range.
+    #[cfg_attr(not(feature = "lab"), allow(dead_code))] // a study of the search's confidence
+    pub(crate) fn model_distance(&self, i: usize, j: usize) -> Option<f64> {
+        let (a, b) = (self.models.get(i)?, self.models.get(j)?);
         let one_way = |from: &Projected, to: &Projected| {
             let d = nearest_distances(&to.rows, &to.norms2, from.rows.as_ref());
             if d.is_empty() { f64::INFINITY } else { d.iter().map(|&x| x as f64).sum::<f64>() / d.len() as f64 }
         };
-        0.5 * (one_way(a, b) + one_way(b, a))
+        Some(0.5 * (one_way(a, b) + one_way(b, a)))
     }
 }
 
