@@ -48,7 +48,7 @@ pub(crate) struct ScaleScan {
     area: f64,
     keypoints: Vec<u32>,
     log_a: Vec<f64>,
-    descriptors: std::sync::Mutex<Vec<Option<std::sync::Arc<Mat<f64>>>>>,
+    descriptors: Vec<std::sync::OnceLock<Mat<f64>>>,
 }
 
 impl ScaleScan {
@@ -62,7 +62,7 @@ impl ScaleScan {
         let step = n.div_ceil(KEYPOINTS).max(1);
         let keypoints: Vec<u32> = (0..n as u32).step_by(step).collect();
         let log_a = area_grid();
-        let descriptors = std::sync::Mutex::new(vec![None; log_a.len()]);
+        let descriptors = (0..log_a.len()).map(|_| std::sync::OnceLock::new()).collect();
         Ok(ScaleScan { partial, area, keypoints, log_a, descriptors })
     }
 
@@ -72,8 +72,8 @@ impl ScaleScan {
     }
 
     /// The partial's keypoint descriptors under hypothesis `i` of the grid, described once.
-    fn descriptors(&self, i: usize) -> Result<std::sync::Arc<Mat<f64>>> {
-        if let Some(d) = self.descriptors.lock().map_err(|_| Error::Numerical("scale scan: poisoned lock".into()))?[i].clone() {
+    fn descriptors(&self, i: usize) -> Result<&Mat<f64>> {
+        if let Some(d) = self.descriptors[i].get() {
             return Ok(d);
         }
         let s = (10f64.powf(self.log_a[i]) / self.area).sqrt();
@@ -82,9 +82,8 @@ impl ScaleScan {
         // about SUPPORT_PER_KEYPOINT of them (only the small-area hypotheses, whose radius
         // holds most of the partial).
         let cloud = (SUPPORT_PER_KEYPOINT * self.area / (std::f64::consts::PI * radius * radius)).max(MIN_SUPPORT_CLOUD) as usize;
-        let d = std::sync::Arc::new(shot::shot_keypoint_descriptors_thinned(&self.partial, &self.keypoints, radius, shot::DEFAULT_MIN_NEIGHBORS, cloud)?);
-        self.descriptors.lock().map_err(|_| Error::Numerical("scale scan: poisoned lock".into()))?[i] = Some(d.clone());
-        Ok(d)
+        let d = shot::shot_keypoint_descriptors_thinned(&self.partial, &self.keypoints, radius, shot::DEFAULT_MIN_NEIGHBORS, cloud)?;
+        Ok(self.descriptors[i].get_or_init(|| d))
     }
 
     /// The estimated area fraction $a^*$ of the scanned partial (area $A_N$, in the units of a
@@ -108,7 +107,7 @@ impl ScaleScan {
         let hypothesis = |i: usize| -> Result<Hypothesis> {
             let s = (10f64.powf(log_a[i]) / area).sqrt();
             let d = self.descriptors(i)?;
-            let (distances, matches) = nearest_rows(full_descriptors, &d);
+            let (distances, matches) = nearest_rows(full_descriptors, d);
             let distance = distances.iter().sum::<f64>() / distances.len() as f64;
             let consistency = match_consistency(&self.partial, &self.keypoints, s, full_positions, &matches);
             Ok(Hypothesis { distance, consistency })
@@ -319,7 +318,7 @@ mod tests {
             let fresh = ScaleScan::new(cut.clone()).unwrap().estimate(d, f.vertices()).unwrap();
             assert_eq!(shared.estimate(d, f.vertices()).unwrap(), fresh);
         }
-        assert!(shared.descriptors.lock().unwrap().iter().any(Option::is_some));
+        assert!(shared.descriptors.iter().any(|d| d.get().is_some()));
     }
 
     /// On costs that fall, then rise, the scan finds the lowest of all with at most 17 of 25
