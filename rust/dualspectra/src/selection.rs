@@ -61,20 +61,66 @@ pub fn signatures_from_spectra(
     desc: &Mat<f64>,
     metrics: &[(Metric, Option<&Spectrum>)],
 ) -> Result<Vec<Mat<f64>>> {
+    let rows: Vec<u32> = (0..partial.n_vertices() as u32).collect();
+    pooled_signatures(partial, desc, &rows, metrics)
+}
+
+/// [`signatures_from_spectra`] with the partial described at a sample of its vertices
+/// ([`crate::geometry::shot::sampled_shot`]): each vertex weighs in with the descriptor of its
+/// nearest sampled vertex, $c_N = (\Psi^{\circ 2})^\top A_N P D_S$ with $P$ the
+/// vertex-to-sample assignment.
+pub fn sampled_signatures(
+    partial: &Shape,
+    desc: &crate::geometry::shot::SampledShot,
+    metrics: &[(Metric, Option<&Spectrum>)],
+) -> Result<Vec<Mat<f64>>> {
+    pooled_signatures(partial, &desc.descriptors, &desc.row_of_vertex, metrics)
+}
+
+/// The projections with vertex `i` described by row `row_of_vertex[i]` of `desc`.
+fn pooled_signatures(
+    partial: &Shape,
+    desc: &Mat<f64>,
+    row_of_vertex: &[u32],
+    metrics: &[(Metric, Option<&Spectrum>)],
+) -> Result<Vec<Mat<f64>>> {
     let dir = partial.dirichlet();
-    let desc_free = restrict_rows(desc, &dir.free);
+    if row_of_vertex.len() != partial.n_vertices() || row_of_vertex.iter().any(|&r| r as usize >= desc.nrows()) {
+        return Err(crate::error::Error::InvalidArgument(format!(
+            "descriptor rows for {} vertices ({} rows), the partial has {} vertices",
+            row_of_vertex.len(),
+            desc.nrows(),
+            partial.n_vertices()
+        )));
+    }
+    let rows_free: Vec<u32> = dir.free.iter().map(|&i| row_of_vertex[i as usize]).collect();
     let k = PROJECTION_EIGENFUNCTIONS.min(dir.n_free().saturating_sub(1)).max(1);
     metrics
         .iter()
         .map(|&(m, known)| {
             let mass = dir.restrict(partial.metric_mass(m));
-            let project = |s: &Spectrum| descriptor_projection(s.vectors.as_ref().subcols(0, k), &mass, &desc_free);
+            let project = |s: &Spectrum| pooled_projection(s.vectors.as_ref().subcols(0, k), &mass, &rows_free, desc);
             match known {
                 Some(s) if s.vectors.ncols() >= k && s.vectors.nrows() == mass.len() => Ok(project(s)),
                 _ => Ok(project(&partial.dirichlet_spectrum(m, k)?)),
             }
         })
         .collect()
+}
+
+/// $(\Phi^{\circ 2})^\top \mathrm{diag}(m) P D$ with $P_{i,r} = 1$ for $r$ = `rows[i]`: the
+/// squared eigenfunctions' mass summed per descriptor row, then one product with `desc`.
+fn pooled_projection(vectors: MatRef<'_, f64>, mass: &[f64], rows: &[u32], desc: &Mat<f64>) -> Mat<f64> {
+    let (k, d) = (vectors.ncols(), desc.ncols());
+    let mut weights = Mat::<f64>::zeros(desc.nrows(), k);
+    for j in 0..k {
+        for (i, &r) in rows.iter().enumerate() {
+            weights[(r as usize, j)] += vectors[(i, j)].powi(2) * mass[i];
+        }
+    }
+    let mut out = Mat::<f64>::zeros(k, d);
+    faer::linalg::matmul::matmul(out.as_mut(), faer::Accum::Replace, weights.transpose(), desc.as_ref(), 1.0, faer::Par::Seq);
+    out
 }
 
 /// Scores of the candidate regions (lower is better for both).

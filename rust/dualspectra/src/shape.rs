@@ -164,6 +164,11 @@ impl Shape {
     /// $M$ the mass of `metric`. Eigenvectors are indexed by the free vertices
     /// (`self.dirichlet().extend` puts zeros back on the boundary).
     pub fn dirichlet_spectrum(&self, metric: Metric, k: usize) -> Result<Spectrum> {
+        self.dirichlet_spectrum_to(metric, k, EigenParams::default().tol)
+    }
+
+    /// [`Shape::dirichlet_spectrum`] solved to the tolerance `tol` ([`EigenParams::tol`]).
+    pub(crate) fn dirichlet_spectrum_to(&self, metric: Metric, k: usize, tol: f64) -> Result<Spectrum> {
         let n_free = self.dirichlet().n_free();
         if n_free == 0 {
             return Err(Error::InvalidArgument(format!(
@@ -176,6 +181,6 @@ impl Shape {
             )));
         }
         let mass = self.dirichlet().restrict(self.metric_mass(metric));
-        generalized_eigen(self.dirichlet_stiffness(), &mass, &EigenParams { k, ..EigenParams::default() })
+        generalized_eigen(self.dirichlet_stiffness(), &mass, &EigenParams { k, tol, ..EigenParams::default() })
     }
 }

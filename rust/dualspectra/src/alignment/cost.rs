@@ -188,9 +188,18 @@ impl<'a> AlignmentCost<'a> {
         let mut grad_free = vec![0.0; w_free.len()];
         let mut cost = 0.0;
         let mut spectra = Vec::with_capacity(self.terms.len());
-        for ((term, solver), mass) in self.terms.iter().zip(&mut self.solvers).zip(&self.masses) {
+        for t in 0..self.terms.len() {
+            let (term, mass) = (&self.terms[t], &self.masses[t]);
             // potential_from_w, with the tanh computed once for every term.
             let v: Vec<f64> = tanh.iter().map(|t| term.height * (t + 1.0)).collect();
+            // A first solve starts from the previous term's eigenvectors at the same `w` (the
+            // same potential shape, another metric) instead of a random block.
+            if t > 0 && self.solvers[t].block().is_none() {
+                if let Some(b) = self.solvers[t - 1].block().filter(|b| b.ncols() >= self.terms[t].target.len()).cloned() {
+                    self.solvers[t].seed(b)?;
+                }
+            }
+            let solver = &mut self.solvers[t];
             let spec = solver.solve(&v)?;
             let k = term.target.len();
             let phi = &spec.vectors;

@@ -194,6 +194,40 @@ pub(crate) fn shot_keypoint_descriptors_thinned(
     Ok(describe_keypoints(mesh.vertices(), &vertex_normals(mesh), keypoints, radius, min_neighbors, max_cloud)?.descriptors)
 }
 
+/// SHOT of a shape at a sample of its vertices, each vertex represented by its nearest
+/// sampled vertex: what the localizer describes a partial by ([`sampled_shot`]).
+#[derive(Debug, Clone)]
+pub struct SampledShot {
+    /// One row per sampled vertex (`n_samples x 352`), as [`shot_keypoint_descriptors`].
+    pub descriptors: Mat<f64>,
+    /// For each vertex of the mesh, the row of its nearest sampled vertex (Euclidean; a
+    /// sampled vertex is its own row).
+    pub row_of_vertex: Vec<u32>,
+}
+
+/// SHOT of every `ceil(n / max_samples)`-th vertex of `mesh` (every vertex when it has at
+/// most `max_samples`), each described with its support on the whole mesh, and every vertex's
+/// nearest sampled vertex. The sample is by vertex index, so it does not depend on the
+/// shape's pose. Errors as [`shot_keypoint_descriptors`].
+pub fn sampled_shot(mesh: &TriMesh, max_samples: usize, radius: f64, min_neighbors: usize) -> Result<SampledShot> {
+    let n = mesh.n_vertices();
+    let step = n.div_ceil(max_samples.max(1)).max(1);
+    let samples: Vec<u32> = (0..n as u32).step_by(step).collect();
+    let descriptors = shot_keypoint_descriptors(mesh, &samples, radius, min_neighbors)?;
+    let row_of_vertex = if step == 1 {
+        samples
+    } else {
+        let at: Vec<[f64; 3]> = samples.iter().map(|&i| mesh.vertices()[i as usize]).collect();
+        let mut rows = crate::mesh::nearest::nearest_vertices(&at, mesh.vertices())?;
+        // A sampled vertex is its own row even where another sample coincides with it.
+        for (row, &i) in samples.iter().enumerate() {
+            rows[i as usize] = row as u32;
+        }
+        rows
+    };
+    Ok(SampledShot { descriptors, row_of_vertex })
+}
+
 fn check_radius(radius: f64) -> Result<()> {
     if radius > 0.0 && radius.is_finite() {
         Ok(())

@@ -31,6 +31,12 @@ pub const STEP_HEIGHT_FACTOR: f64 = 50.0;
 /// (docs/benchmarks/options.md, "Partials above 12,000 vertices"); every SHREC'16 partial is below it.
 pub const MAX_PARTIAL_VERTICES: usize = 12_000;
 
+/// Eigensolver tolerance of the partial's spectra (the targets): a cold solve to a relative
+/// residual of $10^{-4}$, which puts the eigenvalues within about $10^{-10}$ of the
+/// default's $10^{-8}$ (an eigenvalue's error is of the order of the residual squared) at 10
+/// block iterations instead of 16 (docs/benchmarks/options.md, "Where the time goes").
+pub const PARTIAL_EIGEN_TOLERANCE: f64 = 1e-6;
+
 /// A partial of less than this fraction of the full shape's area is warned about: it is likely
 /// in other units (`scale = auto`), and too small to place reliably if it is not.
 pub const SMALLEST_AREA_FRACTION: f64 = 1e-3;
@@ -250,7 +256,9 @@ struct Target {
     /// The partial's Dirichlet spectrum of each term (its eigenfunctions also give the
     /// descriptor projections of the selection).
     spectra: Vec<Spectrum>,
-    descriptors: Mat<f64>,
+    /// Its SHOT descriptors at up to [`starts::DESCRIPTOR_START_SAMPLES`] of its vertices,
+    /// the ones the descriptor matches sample (each vertex represented by its nearest).
+    descriptors: shot::SampledShot,
     /// Its descriptors' correspondences on the optimisation mesh (the descriptor starts and
     /// the vote share of the selection); `None` without descriptors.
     matches: Option<starts::DescriptorMatches>,
@@ -376,7 +384,7 @@ pub(super) fn start_regions(loc: &Localizer, partial: &TriMesh) -> Result<Vec<(S
 fn target_on_its_mesh(loc: &Localizer, partial: &SharedPartial<'_>, effort: Effort, progress: &Progress) -> Result<(Target, Arc<OptimisationMesh>, Vec<String>)> {
     let mut target = loc.workers.install(|| target(loc, partial, effort.k))?;
     let (level, notes) = if effort.finer_mesh { loc.level_for(&target, progress)? } else { (loc.level.clone(), Vec::new()) };
-    target.matches = starts::descriptor_matches(&level.coarse_descriptors, &target.descriptors);
+    target.matches = starts::descriptor_matches(&level.coarse_descriptors, &target.descriptors.descriptors);
     Ok((target, level, notes))
 }
 
@@ -499,9 +507,9 @@ fn target(loc: &Localizer, partial: &SharedPartial<'_>, k: usize) -> Result<Targ
     let (solved, descriptors) = rayon::join(
         || {
             use rayon::prelude::*;
-            wanted.par_iter().map(|&(metric, k)| shape.dirichlet_spectrum(metric, k)).collect::<Result<Vec<Spectrum>>>()
+            wanted.par_iter().map(|&(metric, k)| shape.dirichlet_spectrum_to(metric, k, PARTIAL_EIGEN_TOLERANCE)).collect::<Result<Vec<Spectrum>>>()
         },
-        || shot::shot_descriptors(shape.mesh(), shot::DEFAULT_RADIUS_FRACTION, shot::DEFAULT_MIN_NEIGHBORS),
+        || shot::sampled_shot(shape.mesh(), starts::DESCRIPTOR_START_SAMPLES, shot::DEFAULT_RADIUS_FRACTION, shot::DEFAULT_MIN_NEIGHBORS),
     );
     let (spectra, descriptors) = (solved?, descriptors?);
     let terms = wanted
@@ -682,10 +690,10 @@ fn score(loc: &Localizer, level: &OptimisationMesh, target: &Target, mut candida
     let heights: Vec<f64> = target.terms.iter().map(|t| 2.0 * t.height).collect();
     let target_values: Vec<Vec<f64>> = target.terms.iter().map(|t| t.target.clone()).collect();
     let known: Vec<(Metric, Option<&Spectrum>)> = target.terms.iter().zip(&target.spectra).map(|(t, s)| (t.metric, Some(s))).collect();
-    let signatures = selection::signatures_from_spectra(&target.shape, &target.descriptors, &known)?;
+    let signatures = selection::sampled_signatures(&target.shape, &target.descriptors, &known)?;
     let coarse_regions: Vec<Vec<bool>> = candidates.iter().map(|(_, c, _)| c.0.clone()).collect();
     let borrowed: Vec<&[bool]> = coarse_regions.iter().map(Vec::as_slice).collect();
-    let fits = selection::partial_fits(&level.coarse_descriptors, &target.descriptors, &borrowed)?;
+    let fits = selection::partial_fits(&level.coarse_descriptors, &target.descriptors.descriptors, &borrowed)?;
     let spectral = selection::selection_scores(
         &level.coarse,
         &level.coarse_descriptors,
