@@ -341,6 +341,78 @@ pub(crate) fn refine(
     Ok(None)
 }
 
+/// A start block for a cold solve: the `want` lowest Ritz vectors of the pencil in a block
+/// Krylov space of the shift-inverted operator $S = D K^{-1} D$ ($D = M^{1/2}$),
+/// $\mathrm{span}\{Y_0, S Y_0, \dots, S^{\,s} Y_0\}$ with $Y_0 = D X_0$ (`x0`, `n x b`) and
+/// $s$ = `steps`, each new block orthogonalised against the basis twice (classical
+/// Gram-Schmidt) and within itself (directions below $10^{-10}$ of its largest dropped). One
+/// Rayleigh-Ritz projection at the end instead of one per block iteration: LOBPCG from a
+/// random block projects a basis of $k + 2b$ columns at every step. `None` when fewer than
+/// `want` directions remain (the caller starts from `x0`).
+pub(crate) fn krylov_start(
+    factor: &ShiftedFactor,
+    mass: &[f64],
+    potential: &[f64],
+    x0: MatRef<'_, f64>,
+    steps: usize,
+    want: usize,
+) -> Option<Mat<f64>> {
+    let (n, b) = (x0.nrows(), x0.ncols());
+    let sqrt_m: Vec<f64> = mass.iter().map(|m| m.sqrt()).collect();
+    let mut basis = Mat::<f64>::zeros(n, b * (steps + 1));
+    let mut filled = 0;
+    let mut block = Mat::from_fn(n, b, |i, j| sqrt_m[i] * x0[(i, j)]);
+    let mut solve_mem = MemBuffer::new(factor.solve_scratch(b));
+    for step in 0..=steps {
+        if step > 0 {
+            // S Y = D K^{-1} D Y.
+            for j in 0..block.ncols() {
+                let c = column_mut(block.as_mut(), j);
+                c.iter_mut().zip(&sqrt_m).for_each(|(x, d)| *x *= d);
+            }
+            factor.solve_in_place(block.as_mut(), MemStack::new(&mut solve_mem));
+            for j in 0..block.ncols() {
+                let c = column_mut(block.as_mut(), j);
+                c.iter_mut().zip(&sqrt_m).for_each(|(x, d)| *x *= d);
+            }
+            for _ in 0..2 {
+                let q = basis.as_ref().subcols(0, filled);
+                let coef = mat_tr_mul(q, block.as_ref());
+                matmul(block.as_mut(), Accum::Add, q, coef.as_ref(), -1.0, Par::Seq);
+            }
+        }
+        // Orthonormalise the block within itself: Y U diag(s)^{-1/2} of its Gram matrix's
+        // eigenpairs, keeping the well-determined directions.
+        let g = mat_tr_mul(block.as_ref(), block.as_ref());
+        let (gv, gu) = symmetric_eigen(g.as_ref()).ok()?;
+        let gmax = gv.iter().copied().fold(0.0, f64::max);
+        if !(gmax > 0.0) {
+            break;
+        }
+        let keep: Vec<usize> = (0..gv.len()).filter(|&i| gv[i] > 1e-10 * gmax).collect();
+        let t = Mat::from_fn(block.ncols(), keep.len(), |i, c| gu[(i, keep[c])] / gv[keep[c]].sqrt());
+        let next = mat_mul(block.as_ref(), t.as_ref());
+        basis.as_mut().subcols_mut(filled, next.ncols()).copy_from(next.as_ref());
+        filled += next.ncols();
+        if filled + next.ncols() > basis.ncols() || keep.is_empty() {
+            break;
+        }
+        block = next;
+    }
+    if filled < want {
+        return None;
+    }
+    // X = D^{-1} Q is M-orthonormal; the pencil projected on it is X^T H X.
+    let x = Mat::from_fn(n, filled, |i, j| basis[(i, j)] / sqrt_m[i]);
+    let mv: Vec<f64> = mass.iter().zip(potential).map(|(m, v)| m * v).collect();
+    let mut hx = Mat::<f64>::zeros(n, filled);
+    h_mul(factor, &mv, x.as_ref(), hx.as_mut());
+    let a = mat_tr_mul(x.as_ref(), hx.as_ref());
+    let a = Mat::from_fn(filled, filled, |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
+    let (_, u) = symmetric_eigen(a.as_ref()).ok()?;
+    Some(mat_mul(x.as_ref(), u.as_ref().subcols(0, want)))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -423,6 +495,32 @@ mod tests {
             ws,
         );
         out.expect("solve").expect("converged")
+    }
+
+    /// The Ritz vectors of a block Krylov space of the shift-inverted operator start LOBPCG
+    /// next to the answer: the same eigenvalues as from a random block, in at most two block
+    /// iterations instead of many.
+    #[test]
+    fn a_krylov_start_converges_to_the_eigenpairs_of_a_random_start_in_fewer_iterations() {
+        let n = 400;
+        let mut factor = ShiftedFactor::new(&path_laplacian(n)).expect("symmetric");
+        let mass: Vec<f64> = (0..n).map(|i| 1.0 + 0.01 * i as f64).collect();
+        let potential: Vec<f64> = (0..n).map(|i| if i < n / 3 { 0.0 } else { 5.0 }).collect();
+        let sigma = -1.0 / mass.iter().sum::<f64>();
+        let d: Vec<f64> = mass.iter().zip(&potential).map(|(m, v)| m * (v - sigma)).collect();
+        factor.factorize(&d).expect("positive definite");
+        let random = |cols: usize| Mat::from_fn(n, cols, |i, j| super::super::eigensolver::start_value(i as u64, j as u64));
+        let (b, wanted) = (12, 10);
+        let start = krylov_start(&factor, &mass, &potential, random(4).as_ref(), 15, b).expect("a 64-direction space");
+        assert_eq!((start.nrows(), start.ncols()), (n, b));
+        let solve = |x0: MatRef<'_, f64>| refine(&factor, &mass, &potential, sigma, x0, wanted, 1e-9, 200, &mut Workspace::new()).expect("solve").expect("converged");
+        let (from_krylov, from_random) = (solve(start.as_ref()), solve(random(b).as_ref()));
+        for (a, r) in from_krylov.0.iter().zip(&from_random.0).take(wanted) {
+            assert!((a - r).abs() <= 1e-10 * r.abs(), "{a} vs {r}");
+        }
+        assert!(from_krylov.2 <= 2 && from_random.2 > 2 * from_krylov.2 + 2, "iterations: Krylov start {}, random {}", from_krylov.2, from_random.2);
+        // Too small a space for the wanted directions: no start.
+        assert!(krylov_start(&factor, &mass, &potential, random(2).as_ref(), 2, b).is_none());
     }
 
     #[test]
