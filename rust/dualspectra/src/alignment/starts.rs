@@ -104,9 +104,10 @@ pub fn plane_cut_starts_from_heights(heights: &[Vec<f64>], mass: &[f64], area: f
 /// Partial vertices [`descriptor_matches`] compares (every `ceil(n / this)`-th).
 pub const DESCRIPTOR_START_SAMPLES: usize = 2000;
 
-/// Full-shape vertices per block of [`descriptor_matches`]' distances (bounds its memory to
-/// `DESCRIPTOR_START_SAMPLES x DESCRIPTOR_START_BLOCK` distances, ~33 MB, for any resolution).
-const DESCRIPTOR_START_BLOCK: usize = 2048;
+/// Full-shape vertices per block of [`descriptor_matches`]' distances, the blocks computed in
+/// parallel (each holds `DESCRIPTOR_START_SAMPLES x DESCRIPTOR_START_BLOCK` distances, ~4 MB,
+/// for any resolution).
+const DESCRIPTOR_START_BLOCK: usize = 256;
 
 /// Rounds of one-ring averaging of the descriptor scores in [`descriptor_starts`] (not varied).
 pub const DESCRIPTOR_START_SMOOTHING: usize = 3;
@@ -180,22 +181,41 @@ pub fn descriptor_matches(full_descriptors: &faer::Mat<f64>, partial_descriptors
     let p2: Vec<f64> = (0..sample.len()).map(|j| norm2(&a, j)).collect();
     // Per full vertex the nearest sampled partial descriptor; per sampled partial vertex the
     // nearest full vertex (ties to the lower index) and the second-nearest distance.
-    let mut fit = vec![0.0; n];
-    let mut nearest = vec![Nearest2 { d1: f64::INFINITY, d2: f64::INFINITY, vertex: 0 }; sample.len()];
-    for start in (0..n).step_by(DESCRIPTOR_START_BLOCK) {
-        let rows = DESCRIPTOR_START_BLOCK.min(n - start);
-        let block = full_descriptors.as_ref().subrows(start, rows);
-        let mut dot = faer::Mat::<f64>::zeros(rows, sample.len());
-        faer::linalg::matmul::matmul(dot.as_mut(), faer::Accum::Replace, block, a.transpose(), 1.0, faer::Par::Seq);
-        for r in 0..rows {
-            let f2 = norm2(full_descriptors, start + r);
-            let mut own = f64::INFINITY;
-            for (j, best) in nearest.iter_mut().enumerate() {
-                let distance = (f2 + p2[j] - 2.0 * dot[(r, j)]).max(0.0).sqrt();
-                own = own.min(distance);
-                best.push(distance, start + r);
+    // Blocks of full rows in parallel, merged in row order: the same nearest vertices, ties
+    // and second distances as one pass over the rows.
+    use rayon::prelude::*;
+    let starts: Vec<usize> = (0..n).step_by(DESCRIPTOR_START_BLOCK).collect();
+    let blocks: Vec<(Vec<f64>, Vec<Nearest2>)> = starts
+        .par_iter()
+        .map(|&start| {
+            let rows = DESCRIPTOR_START_BLOCK.min(n - start);
+            let block = full_descriptors.as_ref().subrows(start, rows);
+            let mut dot = faer::Mat::<f64>::zeros(rows, sample.len());
+            faer::linalg::matmul::matmul(dot.as_mut(), faer::Accum::Replace, block, a.transpose(), 1.0, faer::Par::Seq);
+            let mut fit = vec![0.0; rows];
+            let mut nearest = vec![Nearest2 { d1: f64::INFINITY, d2: f64::INFINITY, vertex: 0 }; sample.len()];
+            for r in 0..rows {
+                let f2 = norm2(full_descriptors, start + r);
+                let mut own = f64::INFINITY;
+                for (j, best) in nearest.iter_mut().enumerate() {
+                    let distance = (f2 + p2[j] - 2.0 * dot[(r, j)]).max(0.0).sqrt();
+                    own = own.min(distance);
+                    best.push(distance, start + r);
+                }
+                fit[r] = -own;
             }
-            fit[start + r] = -own;
+            (fit, nearest)
+        })
+        .collect();
+    let mut fit = Vec::with_capacity(n);
+    let mut nearest = vec![Nearest2 { d1: f64::INFINITY, d2: f64::INFINITY, vertex: 0 }; sample.len()];
+    for (block_fit, block_nearest) in blocks {
+        fit.extend(block_fit);
+        for (best, later) in nearest.iter_mut().zip(block_nearest) {
+            // Later rows have higher indices: as if pushed one by one (the second distance's
+            // vertex is never kept).
+            best.push(later.d1, later.vertex);
+            best.push(later.d2, later.vertex);
         }
     }
     let mut votes = vec![0.0; n];

@@ -88,12 +88,12 @@ impl OptimisationMesh {
 }
 
 impl Localizer {
-    /// The optimisation mesh for `target` and notes on it: the finer one for a partial with
+    /// The optimisation mesh for a partial and notes on it: the finer one for a partial with
     /// holes (built on first use), else the prepared one.
-    fn level_for(&self, target: &Target, progress: &Progress) -> Result<(Arc<OptimisationMesh>, Vec<String>)> {
+    fn level_for(&self, has_holes: bool, progress: &Progress) -> Result<(Arc<OptimisationMesh>, Vec<String>)> {
         // A prepared mesh that is the full shape itself (resolution 0 or above the vertex
         // count, or a failed decimation) has nothing finer.
-        if self.level.coarse.n_vertices() >= self.full.n_vertices() || !target.has_holes {
+        if self.level.coarse.n_vertices() >= self.full.n_vertices() || !has_holes {
             return Ok((self.level.clone(), Vec::new()));
         }
         // Held while the finer mesh is built: concurrent partials with holes wait for it, and a
@@ -378,14 +378,11 @@ pub(super) fn start_regions(loc: &Localizer, partial: &TriMesh) -> Result<Vec<(S
         .collect()
 }
 
-/// Stage 1 with the optimisation mesh it chooses ([`Localizer::level_for`]; the regular one
-/// when `effort` leaves out the finer mesh) and the notes on that mesh: the target's
-/// descriptor matches are on that mesh.
+/// Stage 1 on the localizer's pool: the target and the optimisation mesh it chooses
+/// ([`Localizer::level_for`]; the regular one when `effort` leaves out the finer mesh), with
+/// the notes on that mesh: the target's descriptor matches are on that mesh.
 fn target_on_its_mesh(loc: &Localizer, partial: &SharedPartial<'_>, effort: Effort, progress: &Progress) -> Result<(Target, Arc<OptimisationMesh>, Vec<String>)> {
-    let mut target = loc.workers.install(|| target(loc, partial, effort.k))?;
-    let (level, notes) = if effort.finer_mesh { loc.level_for(&target, progress)? } else { (loc.level.clone(), Vec::new()) };
-    target.matches = starts::descriptor_matches(&level.coarse_descriptors, &target.descriptors.descriptors);
-    Ok((target, level, notes))
+    loc.workers.install(|| target(loc, partial, effort, progress))
 }
 
 /// A partial as the localizations of one search share it: with `scale = auto`, its largest
@@ -475,9 +472,9 @@ pub(super) fn partial_in_full_units(loc: &Localizer, partial: &SharedPartial<'_>
 }
 
 /// Stage 1: the partial's largest component, scaled; its Dirichlet spectra (`k` eigenvalues
-/// each, split as the mode says) and descriptors (their matches on the optimisation mesh are
-/// left to [`target_on_its_mesh`]).
-fn target(loc: &Localizer, partial: &SharedPartial<'_>, k: usize) -> Result<Target> {
+/// each, split as the mode says), its descriptors and their matches on the optimisation mesh
+/// it is optimised on (the finer one for a partial with holes, when `effort` allows).
+fn target(loc: &Localizer, partial: &SharedPartial<'_>, effort: Effort, progress: &Progress) -> Result<(Target, Arc<OptimisationMesh>, Vec<String>)> {
     let options = &loc.options;
     let (scaled, factor, mut warnings) = partial_in_full_units(loc, partial)?;
     let area = scaled.area();
@@ -500,18 +497,25 @@ fn target(loc: &Localizer, partial: &SharedPartial<'_>, k: usize) -> Result<Targ
     if shape.dirichlet().n_free() == 0 {
         return Err(MeshError::NoInteriorVertex.into());
     }
-    let (k_regular, k_si) = options.mode.counts(k);
+    let has_holes = has_holes(shape.mesh());
+    let (level, notes) = if effort.finer_mesh { loc.level_for(has_holes, progress)? } else { (loc.level.clone(), Vec::new()) };
+    let (k_regular, k_si) = options.mode.counts(effort.k);
     let wanted: Vec<(Metric, usize)> = [(Metric::Regular, k_regular), (Metric::ScaleInvariant, k_si)].into_iter().filter(|&(_, k)| k > 0).collect();
-    // The spectra (one single-threaded solve each) and the descriptors are independent: they
-    // run side by side on the localizer's pool, each result the same as alone.
-    let (solved, descriptors) = rayon::join(
+    // The spectra (one single-threaded solve each) and the descriptors with their matches are
+    // independent: they run side by side on the localizer's pool, each result the same as
+    // alone.
+    let (solved, described) = rayon::join(
         || {
             use rayon::prelude::*;
             wanted.par_iter().map(|&(metric, k)| shape.dirichlet_spectrum_to(metric, k, PARTIAL_EIGEN_TOLERANCE)).collect::<Result<Vec<Spectrum>>>()
         },
-        || shot::sampled_shot(shape.mesh(), starts::DESCRIPTOR_START_SAMPLES, shot::DEFAULT_RADIUS_FRACTION, shot::DEFAULT_MIN_NEIGHBORS),
+        || {
+            let descriptors = shot::sampled_shot(shape.mesh(), starts::DESCRIPTOR_START_SAMPLES, shot::DEFAULT_RADIUS_FRACTION, shot::DEFAULT_MIN_NEIGHBORS)?;
+            let matches = starts::descriptor_matches(&level.coarse_descriptors, &descriptors.descriptors);
+            Ok::<_, Error>((descriptors, matches))
+        },
     );
-    let (spectra, descriptors) = (solved?, descriptors?);
+    let (spectra, (descriptors, matches)) = (solved?, described?);
     let terms = wanted
         .iter()
         .zip(&spectra)
@@ -521,9 +525,7 @@ fn target(loc: &Localizer, partial: &SharedPartial<'_>, k: usize) -> Result<Targ
             SpectrumTerm { metric, target: values, height }
         })
         .collect();
-    // The matches are filled in once the optimisation mesh is chosen.
-    let has_holes = has_holes(shape.mesh());
-    Ok(Target { shape, area, factor, terms, spectra, descriptors, matches: None, has_holes, warnings })
+    Ok((Target { shape, area, factor, terms, spectra, descriptors, matches, has_holes, warnings }, level, notes))
 }
 
 /// Stage 2: the starts. Given regions first, then the first `plane_cuts` plane cuts (not for
