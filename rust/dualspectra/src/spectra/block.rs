@@ -343,74 +343,79 @@ pub(crate) fn refine(
 
 /// A start block for a cold solve: the `want` lowest Ritz vectors of the pencil in a block
 /// Krylov space of the shift-inverted operator $S = D K^{-1} D$ ($D = M^{1/2}$),
-/// $\mathrm{span}\{Y_0, S Y_0, \dots, S^{\,s} Y_0\}$ with $Y_0 = D X_0$ (`x0`, `n x b`) and
-/// $s$ = `steps`, each new block orthogonalised against the basis twice (classical
-/// Gram-Schmidt) and within itself (directions below $10^{-10}$ of its largest dropped). One
-/// Rayleigh-Ritz projection at the end instead of one per block iteration: LOBPCG from a
-/// random block projects a basis of $k + 2b$ columns at every step. `None` when fewer than
-/// `want` directions remain (the caller starts from `x0`).
-pub(crate) fn krylov_start(
-    factor: &ShiftedFactor,
-    mass: &[f64],
-    potential: &[f64],
-    x0: MatRef<'_, f64>,
-    steps: usize,
-    want: usize,
-) -> Option<Mat<f64>> {
+/// $\mathrm{span}\{Y_0, S Y_0, \dots, S^{\,s-1} Y_0\}$ with $Y_0 = D X_0$ (`x0`, `n x b`) and
+/// $s$ = `steps`: block Lanczos with full reorthogonalisation. Each $S Y_j$ is orthogonalised
+/// against the basis twice (classical Gram-Schmidt) and within itself (directions below
+/// $10^{-10}$ of its largest dropped); the coefficients are the projection
+/// $T = Q^\top S Q$, whose largest eigenvalues $\theta$ are the pencil's lowest
+/// ($\lambda = \sigma + 1/\theta$, the Ritz vectors $D^{-1} Q u$). One eigendecomposition at
+/// the end instead of a Rayleigh-Ritz projection per block iteration (LOBPCG from a random
+/// block projects $k + 2b$ columns at every step). `None` when fewer than `want` directions
+/// remain (the caller starts from `x0`).
+pub(crate) fn krylov_start(factor: &ShiftedFactor, mass: &[f64], x0: MatRef<'_, f64>, steps: usize, want: usize) -> Option<Mat<f64>> {
     let (n, b) = (x0.nrows(), x0.ncols());
     let sqrt_m: Vec<f64> = mass.iter().map(|m| m.sqrt()).collect();
-    let mut basis = Mat::<f64>::zeros(n, b * (steps + 1));
-    let mut filled = 0;
-    let mut block = Mat::from_fn(n, b, |i, j| sqrt_m[i] * x0[(i, j)]);
+    let cap = b * (steps + 1);
+    let mut basis = Mat::<f64>::zeros(n, cap);
+    let mut t = Mat::<f64>::zeros(cap, cap);
     let mut solve_mem = MemBuffer::new(factor.solve_scratch(b));
-    for step in 0..=steps {
-        if step > 0 {
-            // S Y = D K^{-1} D Y.
-            for j in 0..block.ncols() {
-                let c = column_mut(block.as_mut(), j);
-                c.iter_mut().zip(&sqrt_m).for_each(|(x, d)| *x *= d);
-            }
-            factor.solve_in_place(block.as_mut(), MemStack::new(&mut solve_mem));
-            for j in 0..block.ncols() {
-                let c = column_mut(block.as_mut(), j);
-                c.iter_mut().zip(&sqrt_m).for_each(|(x, d)| *x *= d);
-            }
-            for _ in 0..2 {
-                let q = basis.as_ref().subcols(0, filled);
-                let coef = mat_tr_mul(q, block.as_ref());
-                matmul(block.as_mut(), Accum::Add, q, coef.as_ref(), -1.0, Par::Seq);
-            }
-        }
-        // Orthonormalise the block within itself: Y U diag(s)^{-1/2} of its Gram matrix's
-        // eigenpairs, keeping the well-determined directions.
-        let g = mat_tr_mul(block.as_ref(), block.as_ref());
+    // Orthonormalise a block within itself: Z U diag(s)^{-1/2} of its Gram matrix's
+    // eigenpairs, keeping the well-determined directions; also U_kept diag(s)^{1/2}, the
+    // block's coordinates in the result (Z = Y R with R = diag(s)^{1/2} U^T).
+    let orthonormal = |z: MatRef<'_, f64>| -> Option<(Mat<f64>, Mat<f64>)> {
+        let g = mat_tr_mul(z, z);
         let (gv, gu) = symmetric_eigen(g.as_ref()).ok()?;
         let gmax = gv.iter().copied().fold(0.0, f64::max);
-        if !(gmax > 0.0) {
+        let keep: Vec<usize> = (0..gv.len()).filter(|&i| gmax > 0.0 && gv[i] > 1e-10 * gmax).collect();
+        let scale = Mat::from_fn(z.ncols(), keep.len(), |i, c| gu[(i, keep[c])] / gv[keep[c]].sqrt());
+        let r = Mat::from_fn(keep.len(), z.ncols(), |c, i| gu[(i, keep[c])] * gv[keep[c]].sqrt());
+        Some((mat_mul(z, scale.as_ref()), r))
+    };
+    let (y0, _) = orthonormal(Mat::from_fn(n, b, |i, j| sqrt_m[i] * x0[(i, j)]).as_ref())?;
+    basis.as_mut().subcols_mut(0, y0.ncols()).copy_from(y0.as_ref());
+    // Columns [start, filled) are the newest block; [0, applied) have had S applied.
+    let (mut start, mut filled, mut applied) = (0, y0.ncols(), 0);
+    for _ in 0..steps {
+        if filled == start || filled + b > cap {
             break;
         }
-        let keep: Vec<usize> = (0..gv.len()).filter(|&i| gv[i] > 1e-10 * gmax).collect();
-        let t = Mat::from_fn(block.ncols(), keep.len(), |i, c| gu[(i, keep[c])] / gv[keep[c]].sqrt());
-        let next = mat_mul(block.as_ref(), t.as_ref());
+        // Z = S Y = D K^{-1} D Y for the newest block Y.
+        let mut z = Mat::from_fn(n, filled - start, |i, j| sqrt_m[i] * basis[(i, start + j)]);
+        factor.solve_in_place(z.as_mut(), MemStack::new(&mut solve_mem));
+        for j in 0..z.ncols() {
+            column_mut(z.as_mut(), j).iter_mut().zip(&sqrt_m).for_each(|(x, d)| *x *= d);
+        }
+        for _ in 0..2 {
+            let q = basis.as_ref().subcols(0, filled);
+            let coef = mat_tr_mul(q, z.as_ref());
+            matmul(z.as_mut(), Accum::Add, q, coef.as_ref(), -1.0, Par::Seq);
+            for i in 0..filled {
+                for j in 0..coef.ncols() {
+                    t[(i, start + j)] += coef[(i, j)];
+                }
+            }
+        }
+        let (next, r) = orthonormal(z.as_ref())?;
+        for i in 0..next.ncols() {
+            for j in 0..r.ncols() {
+                t[(filled + i, start + j)] = r[(i, j)];
+            }
+        }
         basis.as_mut().subcols_mut(filled, next.ncols()).copy_from(next.as_ref());
+        applied = filled;
+        start = filled;
         filled += next.ncols();
-        if filled + next.ncols() > basis.ncols() || keep.is_empty() {
-            break;
-        }
-        block = next;
     }
-    if filled < want {
+    if applied < want {
         return None;
     }
-    // X = D^{-1} Q is M-orthonormal; the pencil projected on it is X^T H X.
-    let x = Mat::from_fn(n, filled, |i, j| basis[(i, j)] / sqrt_m[i]);
-    let mv: Vec<f64> = mass.iter().zip(potential).map(|(m, v)| m * v).collect();
-    let mut hx = Mat::<f64>::zeros(n, filled);
-    h_mul(factor, &mv, x.as_ref(), hx.as_mut());
-    let a = mat_tr_mul(x.as_ref(), hx.as_ref());
-    let a = Mat::from_fn(filled, filled, |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
-    let (_, u) = symmetric_eigen(a.as_ref()).ok()?;
-    Some(mat_mul(x.as_ref(), u.as_ref().subcols(0, want)))
+    // T on the applied columns (symmetrised from the upper triangle the recurrences filled).
+    let projected = Mat::from_fn(applied, applied, |i, j| if i <= j { t[(i, j)] } else { t[(j, i)] });
+    let (_, u) = symmetric_eigen(projected.as_ref()).ok()?;
+    // The largest theta come last: the lowest eigenvalues' vectors, lowest first.
+    let top = Mat::from_fn(applied, want, |i, c| u[(i, applied - 1 - c)]);
+    let y = mat_mul(basis.as_ref().subcols(0, applied), top.as_ref());
+    Some(Mat::from_fn(n, want, |i, j| y[(i, j)] / sqrt_m[i]))
 }
 
 #[cfg(test)]
@@ -511,7 +516,7 @@ mod tests {
         factor.factorize(&d).expect("positive definite");
         let random = |cols: usize| Mat::from_fn(n, cols, |i, j| super::super::eigensolver::start_value(i as u64, j as u64));
         let (b, wanted) = (12, 10);
-        let start = krylov_start(&factor, &mass, &potential, random(4).as_ref(), 15, b).expect("a 64-direction space");
+        let start = krylov_start(&factor, &mass, random(4).as_ref(), 15, b).expect("a 64-direction space");
         assert_eq!((start.nrows(), start.ncols()), (n, b));
         let solve = |x0: MatRef<'_, f64>| refine(&factor, &mass, &potential, sigma, x0, wanted, 1e-9, 200, &mut Workspace::new()).expect("solve").expect("converged");
         let (from_krylov, from_random) = (solve(start.as_ref()), solve(random(b).as_ref()));
@@ -520,7 +525,7 @@ mod tests {
         }
         assert!(from_krylov.2 <= 2 && from_random.2 > 2 * from_krylov.2 + 2, "iterations: Krylov start {}, random {}", from_krylov.2, from_random.2);
         // Too small a space for the wanted directions: no start.
-        assert!(krylov_start(&factor, &mass, &potential, random(2).as_ref(), 2, b).is_none());
+        assert!(krylov_start(&factor, &mass, random(2).as_ref(), 2, b).is_none());
     }
 
     #[test]

@@ -30,11 +30,12 @@ use crate::operators::SparseMatrix;
 use faer::{Mat, MatRef};
 
 /// Columns of the random block a cold solve's Krylov space grows from, and the applications
-/// of the shift-inverted operator to it (a space of `6 x 21 = 126` directions): LOBPCG then
+/// of the shift-inverted operator to it (a space of `6 x 20 = 120` directions): LOBPCG then
 /// starts from that space's Ritz vectors instead of a random block. On the warm-up meshes of
-/// 4 SHREC'16 pairs (1,000 vertices, 20 eigenpairs and 5 guards) a cold solve took 11.5 ms
-/// instead of 21 ms, on their partials 57 ms instead of 90 ms; blocks of 10 to 26 columns
-/// with as many directions, or fewer steps, left LOBPCG more iterations and took longer
+/// 4 SHREC'16 pairs (1,000 vertices, 20 eigenpairs and 5 guards, one thread) a cold solve
+/// took 10.4 ms instead of 21 ms, on their partials (2,000-6,000 vertices) 26-49 ms instead
+/// of 47-92 ms. Blocks of 10 to 26 columns with as many directions, or fewer steps, left
+/// LOBPCG more iterations and took longer; 24 steps took as long, 28 and 32 longer
 /// (docs/benchmarks/options.md, "Where the time goes").
 const KRYLOV_BLOCK: usize = 6;
 const KRYLOV_STEPS: usize = 20;
@@ -418,7 +419,7 @@ impl HamiltonianSolver {
             // A repeated eigenvalue of more members than the Krylov block has would be missed
             // again: the retries start from a random block of `p` columns.
             let krylov = (attempt == 0 && KRYLOV_BLOCK * (KRYLOV_STEPS + 1) + p < n)
-                .then(|| super::block::krylov_start(&self.factor, &self.mass, &self.potential, random(KRYLOV_BLOCK).as_ref(), KRYLOV_STEPS, p))
+                .then(|| super::block::krylov_start(&self.factor, &self.mass, random(KRYLOV_BLOCK).as_ref(), KRYLOV_STEPS, p))
                 .flatten();
             let x0 = krylov.unwrap_or_else(|| random(p));
             let Some((values, vectors, iters)) = super::block::refine(
