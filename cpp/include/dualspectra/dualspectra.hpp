@@ -254,7 +254,7 @@ struct Match {
   // The screen's score (lower is more similar) when search() screened the shapes (a shortlist
   // below their number); NaN otherwise. A shape screened out is not located, with no error.
   double screen_score = std::numeric_limits<double>::quiet_NaN();
-  // Whether `localization` is the screened search's quick one (fewer starts, iterations and eigenvalues,
+  // Whether `localization` is the screened search's quick one (fewer starts, iterations and eigenvalues, on the regular optimisation mesh even for a partial with holes,
   // ranking the shortlist) rather than a full one; the best few of the shortlist are
   // localized again in full.
   bool quick = false;

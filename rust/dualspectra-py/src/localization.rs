@@ -369,7 +369,7 @@ impl Localizer {
     }
 
     /// `locate` as a two-stage search's quick localization (`dualspectra::search::locate_quick`:
-    /// fewer starts, iterations and eigenvalues), for batches that run the stages themselves.
+    /// fewer starts, iterations and eigenvalues, on the regular optimisation mesh even for a partial with holes), for batches that run the stages themselves.
     #[pyo3(signature = (vertices, faces, progress=None))]
     fn locate_quick(
         &self,

@@ -33,7 +33,7 @@ pub struct Match {
     error: Option<String>,
     #[pyo3(get)]
     screen_score: Option<f64>,
-    /// Whether `localization` is a screened search's quick one (fewer starts, iterations and eigenvalues,
+    /// Whether `localization` is a screened search's quick one (fewer starts, iterations and eigenvalues, on the regular optimisation mesh even for a partial with holes,
     /// ranking the shortlist) rather than a full localization.
     #[pyo3(get)]
     quick: bool,

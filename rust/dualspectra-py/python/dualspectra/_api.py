@@ -549,7 +549,7 @@ def search(
     (lower is more similar; comparable across shapes of different size and meshing). With
     ``shortlist`` below the number of shapes, a screen (a few SHOT descriptors per shape)
     ranks them first and the partial is located on the ``shortlist`` best only (of the
-    meshes among ``fulls``, only those are prepared): quickly (fewer starts, iterations and eigenvalues,
+    meshes among ``fulls``, only those are prepared): quickly (fewer starts, iterations and eigenvalues, on the regular optimisation mesh even for a partial with holes,
     :attr:`Match.quick`), then again in full on the best two of those, which rank first.
 
     Args:

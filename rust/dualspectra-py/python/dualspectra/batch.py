@@ -13,7 +13,7 @@ ranked here by the library's screen and only its ``shortlist`` best (partial, fu
 pairs become work for the tasks; the others are listed after the localized shapes, screened
 out (as :func:`dualspectra.search` lists them). As in :func:`dualspectra.search`, a shortlist
 shorter than the library and longer than two is localized in two stages: every shortlisted
-pair quickly (fewer starts, iterations and eigenvalues; :attr:`BatchMatch.quick`), then the two best of
+pair quickly (fewer starts, iterations and eigenvalues, on the regular optimisation mesh even for a partial with holes; :attr:`BatchMatch.quick`), then the two best of
 each partial's quick ranking again in full, in a second round of tasks. The core decides
 which pairs and in what order (``in_two_stages``, ``shapes_to_refine``,
 ``two_stage_order``), so a batch ranks as :func:`dualspectra.search` does.

@@ -39,7 +39,7 @@ pub struct Match {
     /// and no error.
     #[serde(default)]
     pub screen_score: Option<f64>,
-    /// Whether `localization` is a screened search's quick one (fewer starts, iterations and eigenvalues,
+    /// Whether `localization` is a screened search's quick one (fewer starts, iterations and eigenvalues, on the regular optimisation mesh even for a partial with holes,
     /// ranking the shortlist) rather than a full localization with the localizer's options
     /// ([`search_screened`]).
     #[serde(default)]
@@ -178,7 +178,7 @@ fn every_shape_failed<E: From<Error>>(found: &[Match], first_error: Option<Error
 /// A search after a screen: the `n = screen.len()` shapes are scored by `screen`
 /// ([`Screen::rank`], with the partial's `scale`) and only the `shortlist` best are opened
 /// (`open(i, progress)`, `i` the shape's index in the screen) and localized, in two stages:
-/// each shortlisted shape is localized quickly (fewer starts, iterations and eigenvalues: the
+/// each shortlisted shape is localized quickly (fewer starts, iterations and eigenvalues, on the regular optimisation mesh even for a partial with holes: the
 /// [`Match::quick`] ones), then the [`REFINED_SHAPES`] best of those again in full, as by
 /// [`Localizer::locate`]. The answer ranks the fully localized shapes by similarity score,
 /// then the quick ones, then the others in screen order (screened out: no localization, no
