@@ -50,8 +50,10 @@ pub const MAGIC: [u8; 8] = *b"DSPREP\r\n";
 /// Version of the layout and of what it holds. Bump it whenever either changes, and whenever
 /// [`Localizer::new`] computes something stored here differently: files of another version
 /// are refused as stale. Version 2 (0.3.0): no start centres (the `centers` and `seed`
-/// options were removed).
-pub const FORMAT_VERSION: u32 = 2;
+/// options were removed). Version 3 (0.3.0): SHOT supports thinned above
+/// [`crate::geometry::shot::MAX_SUPPORT_POINTS`] points (the descriptors of densely meshed
+/// full shapes).
+pub const FORMAT_VERSION: u32 = 3;
 
 /// The conventional file extension of prepared shapes (without the dot).
 pub const EXTENSION: &str = "dsprep";

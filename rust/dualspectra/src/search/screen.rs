@@ -115,7 +115,8 @@ pub struct Screen {
 /// The first bytes of a screen file.
 const SCREEN_MAGIC: [u8; 8] = *b"DSSCREEN";
 /// Version of the screen file's layout and of what it holds (bump when either changes).
-const SCREEN_FORMAT: u32 = 1;
+/// Version 2: SHOT supports thinned above [`crate::geometry::shot::MAX_SUPPORT_POINTS`] points.
+const SCREEN_FORMAT: u32 = 2;
 /// The conventional extension of screen files (without the dot).
 pub const SCREEN_EXTENSION: &str = "dsscreen";
 
