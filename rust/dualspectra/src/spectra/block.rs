@@ -360,18 +360,16 @@ pub(crate) fn krylov_start(factor: &ShiftedFactor, mass: &[f64], x0: MatRef<'_, 
     let mut t = Mat::<f64>::zeros(cap, cap);
     let mut solve_mem = MemBuffer::new(factor.solve_scratch(b));
     // Orthonormalise a block within itself: Z U diag(s)^{-1/2} of its Gram matrix's
-    // eigenpairs, keeping the well-determined directions; also U_kept diag(s)^{1/2}, the
-    // block's coordinates in the result (Z = Y R with R = diag(s)^{1/2} U^T).
-    let orthonormal = |z: MatRef<'_, f64>| -> Option<(Mat<f64>, Mat<f64>)> {
+    // eigenpairs, keeping the well-determined directions.
+    let orthonormal = |z: MatRef<'_, f64>| -> Option<Mat<f64>> {
         let g = mat_tr_mul(z, z);
         let (gv, gu) = symmetric_eigen(g.as_ref()).ok()?;
         let gmax = gv.iter().copied().fold(0.0, f64::max);
         let keep: Vec<usize> = (0..gv.len()).filter(|&i| gmax > 0.0 && gv[i] > 1e-10 * gmax).collect();
         let scale = Mat::from_fn(z.ncols(), keep.len(), |i, c| gu[(i, keep[c])] / gv[keep[c]].sqrt());
-        let r = Mat::from_fn(keep.len(), z.ncols(), |c, i| gu[(i, keep[c])] * gv[keep[c]].sqrt());
-        Some((mat_mul(z, scale.as_ref()), r))
+        Some(mat_mul(z, scale.as_ref()))
     };
-    let (y0, _) = orthonormal(Mat::from_fn(n, b, |i, j| sqrt_m[i] * x0[(i, j)]).as_ref())?;
+    let y0 = orthonormal(Mat::from_fn(n, b, |i, j| sqrt_m[i] * x0[(i, j)]).as_ref())?;
     basis.as_mut().subcols_mut(0, y0.ncols()).copy_from(y0.as_ref());
     // Columns [start, filled) are the newest block; [0, applied) have had S applied.
     let (mut start, mut filled, mut applied) = (0, y0.ncols(), 0);
@@ -395,12 +393,9 @@ pub(crate) fn krylov_start(factor: &ShiftedFactor, mass: &[f64], x0: MatRef<'_, 
                 }
             }
         }
-        let (next, r) = orthonormal(z.as_ref())?;
-        for i in 0..next.ncols() {
-            for j in 0..r.ncols() {
-                t[(filled + i, start + j)] = r[(i, j)];
-            }
-        }
+        // The coefficients of both passes are T's column block of Y, Q^T S Y, for the rows of
+        // the basis so far: T's upper triangle.
+        let next = orthonormal(z.as_ref())?;
         basis.as_mut().subcols_mut(filled, next.ncols()).copy_from(next.as_ref());
         applied = filled;
         start = filled;
@@ -409,7 +404,8 @@ pub(crate) fn krylov_start(factor: &ShiftedFactor, mass: &[f64], x0: MatRef<'_, 
     if applied < want {
         return None;
     }
-    // T on the applied columns (symmetrised from the upper triangle the recurrences filled).
+    // T on the applied columns, from the upper triangle the recurrences filled (the block
+    // not applied only bounds the residuals; it is left out).
     let projected = Mat::from_fn(applied, applied, |i, j| if i <= j { t[(i, j)] } else { t[(j, i)] });
     let (_, u) = symmetric_eigen(projected.as_ref()).ok()?;
     // The largest theta come last: the lowest eigenvalues' vectors, lowest first.
