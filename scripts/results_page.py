@@ -142,7 +142,7 @@ def page(report: dict, commit: str, args: str, date: str, machine: str, note: st
         "## Regenerate",
         "",
         "```sh",
-        "bash scripts/results.sh              # every pair of every set (about 25 minutes on 2 cores)",
+        "bash scripts/results.sh              # every pair of every set (about 8 minutes on 2 cores)",
         "bash scripts/results.sh --limit 1    # any extra `bench` argument, e.g. a quick smoke run",
         "```",
         "",
