@@ -243,7 +243,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     serde_json::json!({
                         "model": names[model], "class": classes[model], "score": m.score.is_finite().then_some(m.score),
                         "confidence": m.localization.as_ref().map(|l| l.confidence), "quick": m.quick, "located": m.localization.is_some(),
-                        "seconds": m.localization.as_ref().map(|l| l.timings.total),
+                        "seconds": m.localization.as_ref().map(|l| l.timings.total), "timings": m.localization.as_ref().map(|l| serde_json::to_value(&l.timings).unwrap_or_default()),
                         "cost": m.localization.as_ref().map(|l| l.cost), "factor": m.localization.as_ref().map(|l| l.scale),
                         "screen_score": m.screen_score, "search_confidence": m.localization.is_some().then_some(m.confidence),
                         "chosen": m.localization.as_ref().and_then(|l| l.candidates.get(l.selected_start)).map(|c| serde_json::to_value(c.scores).unwrap_or_default()),

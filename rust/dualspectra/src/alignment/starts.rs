@@ -167,8 +167,11 @@ pub struct DescriptorMatches {
 
 /// The [`DescriptorMatches`] of the partial's descriptors (rows of `partial_descriptors`,
 /// every `ceil(n / DESCRIPTOR_START_SAMPLES)`-th) on the full shape's (rows of
-/// `full_descriptors`); `None` for no descriptor or mismatched dimensions. Distances by
-/// blocks of full-shape rows: memory bounded for any resolution.
+/// `full_descriptors`); `None` for no descriptor or mismatched dimensions. The nearest and
+/// second-nearest rows are found from single-precision distances (by blocks of full-shape
+/// rows: memory bounded for any resolution), and the distances they give are those rows'
+/// distances in double precision: only rows within single precision's rounding of each other
+/// can be ordered differently than in double precision, at half the cost of the products.
 pub fn descriptor_matches(full_descriptors: &faer::Mat<f64>, partial_descriptors: &faer::Mat<f64>) -> Option<DescriptorMatches> {
     let (n, d) = (full_descriptors.nrows(), full_descriptors.ncols());
     if n == 0 || partial_descriptors.nrows() == 0 || partial_descriptors.ncols() != d {
@@ -176,74 +179,88 @@ pub fn descriptor_matches(full_descriptors: &faer::Mat<f64>, partial_descriptors
     }
     let step = partial_descriptors.nrows().div_ceil(DESCRIPTOR_START_SAMPLES).max(1);
     let sample: Vec<usize> = (0..partial_descriptors.nrows()).step_by(step).collect();
-    let a = faer::Mat::<f64>::from_fn(sample.len(), d, |i, c| partial_descriptors[(sample[i], c)]);
-    let norm2 = |m: &faer::Mat<f64>, i: usize| (0..d).map(|c| m[(i, c)].powi(2)).sum::<f64>();
-    let p2: Vec<f64> = (0..sample.len()).map(|j| norm2(&a, j)).collect();
-    // Per full vertex the nearest sampled partial descriptor; per sampled partial vertex the
-    // nearest full vertex (ties to the lower index) and the second-nearest distance.
-    // Blocks of full rows in parallel, merged in row order: the same nearest vertices, ties
-    // and second distances as one pass over the rows.
+    let a = faer::Mat::<f32>::from_fn(sample.len(), d, |i, c| partial_descriptors[(sample[i], c)] as f32);
+    let full = faer::Mat::<f32>::from_fn(n, d, |i, c| full_descriptors[(i, c)] as f32);
+    let norm2 = |m: &faer::Mat<f32>, i: usize| (0..d).map(|c| m[(i, c)] * m[(i, c)]).sum::<f32>();
+    let p2: Vec<f32> = (0..sample.len()).map(|j| norm2(&a, j)).collect();
+    // Per full vertex the nearest sampled partial vertex; per sampled partial vertex the
+    // nearest and second-nearest full vertices (ties to the lower index), by squared
+    // single-precision distances. Blocks of full rows in parallel, merged in row order: the
+    // same nearest vertices and ties as one pass over the rows.
     use rayon::prelude::*;
     let starts: Vec<usize> = (0..n).step_by(DESCRIPTOR_START_BLOCK).collect();
-    let blocks: Vec<(Vec<f64>, Vec<Nearest2>)> = starts
+    let blocks: Vec<(Vec<usize>, Vec<Nearest2>)> = starts
         .par_iter()
         .map(|&start| {
             let rows = DESCRIPTOR_START_BLOCK.min(n - start);
-            let block = full_descriptors.as_ref().subrows(start, rows);
-            let mut dot = faer::Mat::<f64>::zeros(rows, sample.len());
-            faer::linalg::matmul::matmul(dot.as_mut(), faer::Accum::Replace, block, a.transpose(), 1.0, faer::Par::Seq);
-            let mut fit = vec![0.0; rows];
-            let mut nearest = vec![Nearest2 { d1: f64::INFINITY, d2: f64::INFINITY, vertex: 0 }; sample.len()];
+            let block = full.as_ref().subrows(start, rows);
+            let mut dot = faer::Mat::<f32>::zeros(rows, sample.len());
+            faer::linalg::matmul::matmul(dot.as_mut(), faer::Accum::Replace, block, a.transpose(), 1.0f32, faer::Par::Seq);
+            let mut own = vec![0usize; rows];
+            let mut nearest = vec![Nearest2::NONE; sample.len()];
             for r in 0..rows {
-                let f2 = norm2(full_descriptors, start + r);
-                let mut own = f64::INFINITY;
-                for (j, best) in nearest.iter_mut().enumerate() {
-                    let distance = (f2 + p2[j] - 2.0 * dot[(r, j)]).max(0.0).sqrt();
-                    own = own.min(distance);
-                    best.push(distance, start + r);
+                let f2 = norm2(&full, start + r);
+                let mut best = (f32::INFINITY, 0usize);
+                for (j, near) in nearest.iter_mut().enumerate() {
+                    let distance2 = (f2 + p2[j] - 2.0 * dot[(r, j)]).max(0.0);
+                    if distance2 < best.0 {
+                        best = (distance2, j);
+                    }
+                    near.push(distance2, start + r);
                 }
-                fit[r] = -own;
+                own[r] = best.1;
             }
-            (fit, nearest)
+            (own, nearest)
         })
         .collect();
-    let mut fit = Vec::with_capacity(n);
-    let mut nearest = vec![Nearest2 { d1: f64::INFINITY, d2: f64::INFINITY, vertex: 0 }; sample.len()];
-    for (block_fit, block_nearest) in blocks {
-        fit.extend(block_fit);
+    let mut own = Vec::with_capacity(n);
+    let mut nearest = vec![Nearest2::NONE; sample.len()];
+    for (block_own, block_nearest) in blocks {
+        own.extend(block_own);
         for (best, later) in nearest.iter_mut().zip(block_nearest) {
-            // Later rows have higher indices: as if pushed one by one (the second distance's
-            // vertex is never kept).
-            best.push(later.d1, later.vertex);
-            best.push(later.d2, later.vertex);
+            // Later rows have higher indices: as if pushed one by one.
+            best.push(later.d1, later.v1);
+            best.push(later.d2, later.v2);
         }
     }
+    // The distances of the rows found, in double precision.
+    let distance = |row: usize, j: usize| {
+        let partial_row = sample[j];
+        (0..d).map(|c| (full_descriptors[(row, c)] - partial_descriptors[(partial_row, c)]).powi(2)).sum::<f64>().sqrt()
+    };
+    let fit: Vec<f64> = own.iter().enumerate().map(|(r, &j)| -distance(r, j)).collect();
     let mut votes = vec![0.0; n];
-    for m in &nearest {
+    for (j, m) in nearest.iter().enumerate() {
+        let d1 = distance(m.v1, j);
+        // A single full row has no second nearest (d2 = inf): a vote of 1, as before.
+        let d2 = if m.d2.is_finite() { distance(m.v2, j) } else { f64::INFINITY };
+        let (vertex, d1, d2) = if d2 < d1 { (m.v2, d2, d1) } else { (m.v1, d1, d2) };
         // A tie (d1 = d2) is no evidence; d2 = 0 only if both are 0.
-        votes[m.vertex] += if m.d2 > 0.0 { 1.0 - m.d1 / m.d2 } else { 0.0 };
+        votes[vertex] += if d2 > 0.0 { 1.0 - d1 / d2 } else { 0.0 };
     }
     Some(DescriptorMatches { fit, votes })
 }
 
-/// The nearest and second-nearest distances seen so far and the nearest's vertex.
+/// The nearest and second-nearest squared distances seen so far and their vertices.
 #[derive(Debug, Clone, Copy)]
 struct Nearest2 {
-    d1: f64,
-    d2: f64,
-    vertex: usize,
+    d1: f32,
+    d2: f32,
+    v1: usize,
+    v2: usize,
 }
 
 impl Nearest2 {
+    const NONE: Nearest2 = Nearest2 { d1: f32::INFINITY, d2: f32::INFINITY, v1: 0, v2: 0 };
+
     /// Take `distance` to `vertex` into account (vertices in increasing order: ties keep the
     /// lower index as the nearest, and make `d2 = d1`).
-    fn push(&mut self, distance: f64, vertex: usize) {
+    fn push(&mut self, distance: f32, vertex: usize) {
         if distance < self.d1 {
-            self.d2 = self.d1;
-            self.d1 = distance;
-            self.vertex = vertex;
+            (self.d2, self.v2) = (self.d1, self.v1);
+            (self.d1, self.v1) = (distance, vertex);
         } else if distance < self.d2 {
-            self.d2 = distance;
+            (self.d2, self.v2) = (distance, vertex);
         }
     }
 }
@@ -266,6 +283,51 @@ mod tests {
         z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
         z ^ (z >> 31)
     }
+    /// The matches found in single precision are the double-precision nearest rows' (to
+    /// within single precision's rounding of the distances), with their double-precision
+    /// distances: fit and votes against a brute-force double-precision reference on unit
+    /// rows (as SHOT's), with a block boundary crossed and a duplicated row (a tie: no vote).
+    #[test]
+    fn single_precision_search_gives_the_double_precision_matches() {
+        let (n, m, d) = (DESCRIPTOR_START_BLOCK + 37, 150, 24);
+        let mut state = 11;
+        let mut unit = |rows: usize| {
+            let mut x = faer::Mat::<f64>::from_fn(rows, d, |_, _| (splitmix64(&mut state) >> 11) as f64 / (1u64 << 53) as f64 - 0.5);
+            for i in 0..rows {
+                let norm = (0..d).map(|c| x[(i, c)].powi(2)).sum::<f64>().sqrt();
+                for c in 0..d {
+                    x[(i, c)] /= norm;
+                }
+            }
+            x
+        };
+        let mut full = unit(n);
+        let mut partial = unit(m);
+        // Full row 290 duplicates row 5, and partial row 0 is row 5: a tie at distance 0,
+        // kept by the lower index, with no vote from partial row 0.
+        for c in 0..d {
+            full[(290, c)] = full[(5, c)];
+            partial[(0, c)] = full[(5, c)];
+        }
+        let matches = descriptor_matches(&full, &partial).unwrap();
+        let dist = |i: usize, j: usize| (0..d).map(|c| (full[(i, c)] - partial[(j, c)]).powi(2)).sum::<f64>().sqrt();
+        for i in 0..n {
+            let best = (0..m).map(|j| dist(i, j)).fold(f64::INFINITY, f64::min);
+            assert!((matches.fit[i] + best).abs() < 1e-6, "row {i}: fit {} against {best}", matches.fit[i]);
+        }
+        let mut votes = vec![0.0; n];
+        for j in 0..m {
+            let mut order: Vec<usize> = (0..n).collect();
+            order.sort_by(|&a, &b| dist(a, j).total_cmp(&dist(b, j)).then(a.cmp(&b)));
+            let (d1, d2) = (dist(order[0], j), dist(order[1], j));
+            votes[order[0]] += if d2 > 0.0 { 1.0 - d1 / d2 } else { 0.0 };
+        }
+        for i in 0..n {
+            assert!((matches.votes[i] - votes[i]).abs() < 1e-5, "row {i}: votes {} against {}", matches.votes[i], votes[i]);
+        }
+        assert_eq!((matches.fit[5], matches.fit[290], matches.votes[290]), (0.0, 0.0, 0.0));
+    }
+
     #[test]
     fn descriptor_starts_find_the_region_whose_descriptors_the_partial_has() {
         // A 30 x 30 grid with random descriptors; the "partial" carries the descriptors of a
@@ -311,17 +373,17 @@ mod tests {
 
     #[test]
     fn nearest_two_keeps_the_lower_index_and_a_tie_as_the_second_distance() {
-        let mut m = Nearest2 { d1: f64::INFINITY, d2: f64::INFINITY, vertex: 0 };
+        let mut m = Nearest2::NONE;
         for (i, d) in [3.0, 1.0, 2.0, 1.0, 5.0].into_iter().enumerate() {
             m.push(d, i);
         }
         // Nearest at vertex 1; the tie at vertex 3 is the second distance: ratio 1, no vote.
-        assert_eq!((m.d1, m.d2, m.vertex), (1.0, 1.0, 1));
-        let mut m = Nearest2 { d1: f64::INFINITY, d2: f64::INFINITY, vertex: 0 };
+        assert_eq!((m.d1, m.d2, m.v1, m.v2), (1.0, 1.0, 1, 3));
+        let mut m = Nearest2::NONE;
         for (i, d) in [4.0, 2.0, 3.0].into_iter().enumerate() {
             m.push(d, i);
         }
-        assert_eq!((m.d1, m.d2, m.vertex), (2.0, 3.0, 1));
+        assert_eq!((m.d1, m.d2, m.v1, m.v2), (2.0, 3.0, 1, 2));
     }
 
     /// Area of the vertices where `w0 < 0` (the start's well, `v < c`).
