@@ -348,8 +348,8 @@ fn results_do_not_depend_on_the_thread_count() {
 }
 
 /// A partial with holes is optimised on the finer mesh ([`dualspectra::lab::FINE_RESOLUTION_FACTOR`]
-/// x `resolution`) without plane-cut starts, a clean cut on the prepared one with them (and
-/// so is the partial with holes by a search's quick localization); the
+/// x `resolution`) without plane-cut starts, a clean cut on the prepared one with them (a
+/// search's quick localization keeps both on the prepared mesh, from descriptor starts); the
 /// finer mesh is built on first use, so a saved and loaded localizer (which does not store it)
 /// gives the same result bit for bit.
 #[test]
@@ -386,6 +386,10 @@ fn a_partial_with_holes_is_optimised_on_the_finer_mesh_without_plane_starts() {
     // A search's quick localization, which only ranks its shortlist, stays on the prepared mesh.
     let quick = dualspectra::search::locate_quick(&localizer, &holed, &Progress::none()).unwrap();
     assert_eq!(quick.optimisation_vertices, coarse);
+    // It starts the clean cut from its descriptors only, as a partial with holes.
+    let quick_clean = dualspectra::search::locate_quick(&localizer, &clean, &Progress::none()).unwrap();
+    assert_eq!(planes(&quick_clean), 0);
+    assert!(quick_clean.candidates.iter().any(|c| c.label == "descriptor-fit"));
     let loaded = Localizer::from_bytes(&localizer.to_bytes()).unwrap();
     let again = loaded.locate(&holed, &Progress::none()).unwrap();
     assert_eq!(again.region, found.region);

@@ -294,21 +294,23 @@ struct Scored {
 }
 
 /// How much of the method a localization runs: trust-region iterations per start, plane-cut
-/// starts, eigenvalues per spectrum (each at most the localizer's options) and whether a
-/// partial with holes is optimised on the finer mesh ([`FINE_RESOLUTION_FACTOR`]);
-/// [`Effort::of`] is all of it.
+/// starts, eigenvalues per spectrum (each at most the localizer's options), whether a
+/// partial with holes is optimised on the finer mesh ([`FINE_RESOLUTION_FACTOR`]) and whether
+/// a partial without holes gets its plane-cut starts beside its descriptor starts (otherwise
+/// only when it has no descriptor start, as a partial with holes); [`Effort::of`] is all of it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct Effort {
     pub max_iterations: usize,
     pub plane_cuts: usize,
     pub k: usize,
     pub finer_mesh: bool,
+    pub plane_cuts_beside_descriptors: bool,
 }
 
 impl Effort {
     /// What `options` ask for.
     pub(crate) fn of(options: &crate::localizer::Options) -> Effort {
-        Effort { max_iterations: options.max_iterations, plane_cuts: options.plane_cuts, k: options.k, finer_mesh: true }
+        Effort { max_iterations: options.max_iterations, plane_cuts: options.plane_cuts, k: options.k, finer_mesh: true, plane_cuts_beside_descriptors: true }
     }
 
     /// The smaller of each.
@@ -318,6 +320,7 @@ impl Effort {
             plane_cuts: self.plane_cuts.min(other.plane_cuts),
             k: self.k.min(other.k),
             finer_mesh: self.finer_mesh && other.finer_mesh,
+            plane_cuts_beside_descriptors: self.plane_cuts_beside_descriptors && other.plane_cuts_beside_descriptors,
         }
     }
 }
@@ -330,7 +333,7 @@ pub(super) fn locate(loc: &Localizer, partial: &SharedPartial<'_>, initial_regio
     let (target, level, level_notes) = target_on_its_mesh(loc, partial, effort, progress)?;
     let t_pre = clock.lap();
     progress.report(0.05, "starts")?;
-    let starts = starts_for(&level, &target, initial_regions, effort.plane_cuts);
+    let starts = starts_for(&level, &target, initial_regions, effort.plane_cuts, effort.plane_cuts_beside_descriptors);
     if starts.is_empty() {
         return Err(Error::InvalidArgument("no starts (plane_cuts = 0, no initial region, and no descriptor start)".into()));
     }
@@ -368,7 +371,7 @@ pub(super) fn locate(loc: &Localizer, partial: &SharedPartial<'_>, initial_regio
 #[cfg_attr(not(feature = "lab"), allow(dead_code))] // used by the lab and the tests
 pub(super) fn start_regions(loc: &Localizer, partial: &TriMesh) -> Result<Vec<(String, Vec<bool>)>> {
     let (target, level, _) = target_on_its_mesh(loc, &SharedPartial::new(partial), Effort::of(&loc.options), &Progress::none())?;
-    starts_for(&level, &target, &[], loc.options.plane_cuts)
+    starts_for(&level, &target, &[], loc.options.plane_cuts, true)
         .into_iter()
         .map(|s| {
             let low: Vec<f64> = s.w0.iter().map(|w| -w).collect();
@@ -529,9 +532,10 @@ fn target(loc: &Localizer, partial: &SharedPartial<'_>, effort: Effort, progress
 }
 
 /// Stage 2: the starts. Given regions first, then the first `plane_cuts` plane cuts (not for
-/// a partial with holes), then the two descriptor starts (the regions whose SHOT descriptors
-/// the partial's resemble).
-fn starts_for(level: &OptimisationMesh, target: &Target, initial_regions: &[Vec<bool>], plane_cuts: usize) -> Vec<Start> {
+/// a partial with holes, nor without `beside_descriptors`, unless there is no descriptor
+/// start), then the two descriptor starts (the regions whose SHOT descriptors the partial's
+/// resemble).
+fn starts_for(level: &OptimisationMesh, target: &Target, initial_regions: &[Vec<bool>], plane_cuts: usize, beside_descriptors: bool) -> Vec<Start> {
     let mass = level.coarse.mass();
     let mut out: Vec<Start> = initial_regions
         .iter()
@@ -547,8 +551,9 @@ fn starts_for(level: &OptimisationMesh, target: &Target, initial_regions: &[Vec<
     };
     // A partial with holes is no plane cut: its plane starts added nothing but time
     // (docs/benchmarks/options.md, "Starts for each kind of partial"); they stay when there
-    // is no descriptor start.
-    if !target.has_holes || descriptor_starts.is_empty() {
+    // is no descriptor start. A search's quick localizations leave them out the same way
+    // (`beside_descriptors` false: docs/benchmarks/options.md, "Two-stage search").
+    if (!target.has_holes && beside_descriptors) || descriptor_starts.is_empty() {
         let heights = &level.plane_heights[..plane_cuts.min(level.plane_heights.len())];
         out.extend(starts::plane_cut_starts_from_heights(heights, mass, target.area));
     }

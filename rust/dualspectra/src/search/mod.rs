@@ -90,12 +90,12 @@ where
 /// quick localizations rank best (docs/benchmarks/options.md, "Two-stage search").
 pub(crate) const REFINED_SHAPES: usize = 2;
 
-/// The quick localizations that rank a shortlist: the first 2 plane-cut starts (of the
-/// default 6), 2 trust-region iterations (of the default 8) and 10 eigenvalues per spectrum
-/// (of the default 20), each at most the localizer's own, and a partial with holes on the
-/// regular optimisation mesh, not the finer one (docs/benchmarks/options.md, "Two-stage
-/// search").
-pub(crate) const RANKING_EFFORT: Effort = Effort { max_iterations: 2, plane_cuts: 2, k: 10, finer_mesh: false };
+/// The quick localizations that rank a shortlist: the two descriptor starts (the first 2
+/// plane-cut starts of the default 6 only where there is no descriptor start), 2
+/// trust-region iterations (of the default 8) and 10 eigenvalues per spectrum (of the
+/// default 20), each at most the localizer's own, and a partial with holes on the regular
+/// optimisation mesh, not the finer one (docs/benchmarks/options.md, "Two-stage search").
+pub(crate) const RANKING_EFFORT: Effort = Effort { max_iterations: 2, plane_cuts: 2, k: 10, finer_mesh: false, plane_cuts_beside_descriptors: false };
 
 /// Time of a quick ranking localization over a full one, for splitting progress.
 const RANKING_COST: f64 = 0.3;
