@@ -256,11 +256,11 @@ def test_batch_in_two_stages_ranks_as_the_search_does(
             if loc is not None:
                 assert b.region is not None and b.region.tobytes() == loc.region.tobytes()
                 assert (b.confidence, b.cost, b.search_confidence) == (loc.confidence, loc.cost, m.confidence)
-    # The quick localization is the core's: at most its effort (2 iterations, 2 plane cuts,
-    # 10 eigenvalues), so with these options (8 iterations, 2 plane cuts, k = 6) the full one
-    # of a shape prepared with 2 iterations.
+    # The quick localization is the core's: at most its effort (2 iterations, 10 eigenvalues,
+    # the descriptor starts without the plane cuts), so with these options (8 iterations,
+    # 2 plane cuts, k = 6) the full one of a shape prepared with 2 iterations and no plane cut.
     quick = next(b for b in got[0] if b.quick)
-    light_two = ds.Localizer(*library[quick.index], **{**LIGHT, "max_iterations": 2})
+    light_two = ds.Localizer(*library[quick.index], **{**LIGHT, "max_iterations": 2, "plane_cuts": 0})
     full = search_batch(partials[:1], [light_two], pairs=[(0, 0)])[0][0]
     assert not full.quick and full.region is not None and quick.region is not None
     assert (quick.score, quick.cost, quick.region.tobytes()) == (full.score, full.cost, full.region.tobytes())
