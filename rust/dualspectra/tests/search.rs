@@ -178,8 +178,9 @@ fn a_localization_keeps_an_infinite_similarity_through_json() {
 
 /// A screened search with a shortlist below the library's size localizes its shortlist
 /// quickly and the two best of those again in full: the full ones are exactly
-/// `Localizer::locate`'s answers, the quick one is exactly a localization with 2 plane cuts,
-/// at most 2 iterations and at most 10 eigenvalues, and the shape the screen leaves out
+/// `Localizer::locate`'s answers, the quick one is exactly a localization from the descriptor
+/// starts (no plane cut), at most 2 iterations and at most 10 eigenvalues, and the shape the
+/// screen leaves out
 /// follows, not located.
 #[test]
 fn a_screened_search_localizes_its_shortlist_quickly_and_the_best_again_in_full() {
@@ -207,13 +208,14 @@ fn a_screened_search_localizes_its_shortlist_quickly_and_the_best_again_in_full(
         assert_eq!((loc.region.clone(), m.score.to_bits()), (direct.region, direct.similarity_score.to_bits()));
     }
     let quick = &found[2];
-    let quick_options = Options { plane_cuts: 2, max_iterations: light().max_iterations.min(2), k: light().k.min(10), ..light() };
+    let quick_options = Options { plane_cuts: 0, max_iterations: light().max_iterations.min(2), k: light().k.min(10), ..light() };
     let prepared = Localizer::new(meshes[quick.index], &quick_options).unwrap();
     let direct = prepared.locate(&pair().partial, &Progress::none()).unwrap();
     let loc = quick.localization.as_ref().unwrap();
     assert_eq!((loc.region.clone(), quick.score.to_bits()), (direct.region, direct.similarity_score.to_bits()));
     let full = shapes[quick.index].locate(&pair().partial, &Progress::none()).unwrap();
     assert!(loc.candidates.len() < full.candidates.len(), "fewer starts: {} against {}", loc.candidates.len(), full.candidates.len());
+    assert!(loc.candidates.iter().all(|c| c.label.starts_with("descriptor")), "descriptor starts only");
     let out = &found[3];
     assert!(out.error.is_none() && out.score == f64::INFINITY && out.screen_score >= found[0].screen_score);
     // The search's confidence: each located match's among the located ones.
