@@ -244,16 +244,23 @@ pub(crate) fn nearest_distances(model: &Mat<f32>, model_norms2: &[f32], query: f
     out
 }
 
-/// A descriptor matrix in single precision with its rows' squared norms: the side of
-/// [`nearest_rows`] searched, converted once for every hypothesis.
-struct SingleRows {
-    rows: Mat<f32>,
-    norms2: Vec<f32>,
+/// Descriptor rows in single precision with their squared norms: the side of a
+/// nearest-descriptor search whose products are taken in single precision
+/// ([`nearest_rows`], [`crate::alignment::starts::descriptor_matches`]).
+pub(crate) struct SingleRows {
+    pub(crate) rows: Mat<f32>,
+    pub(crate) norms2: Vec<f32>,
 }
 
 impl SingleRows {
-    fn new(m: &Mat<f64>) -> Self {
-        let rows = Mat::<f32>::from_fn(m.nrows(), m.ncols(), |i, c| m[(i, c)] as f32);
+    /// Every row of `m`.
+    pub(crate) fn new(m: &Mat<f64>) -> Self {
+        Self::of_rows(m, &(0..m.nrows()).collect::<Vec<_>>())
+    }
+
+    /// The rows `rows` of `m`, in that order.
+    pub(crate) fn of_rows(m: &Mat<f64>, rows: &[usize]) -> Self {
+        let rows = Mat::<f32>::from_fn(rows.len(), m.ncols(), |i, c| m[(rows[i], c)] as f32);
         let norms2 = (0..rows.nrows()).map(|i| (0..rows.ncols()).map(|c| rows[(i, c)] * rows[(i, c)]).sum()).collect();
         SingleRows { rows, norms2 }
     }

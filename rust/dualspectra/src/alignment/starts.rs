@@ -173,16 +173,15 @@ pub struct DescriptorMatches {
 /// distances in double precision: only rows within single precision's rounding of each other
 /// can be ordered differently than in double precision, at half the cost of the products.
 pub fn descriptor_matches(full_descriptors: &faer::Mat<f64>, partial_descriptors: &faer::Mat<f64>) -> Option<DescriptorMatches> {
+    use crate::alignment::scale::SingleRows;
     let (n, d) = (full_descriptors.nrows(), full_descriptors.ncols());
     if n == 0 || partial_descriptors.nrows() == 0 || partial_descriptors.ncols() != d {
         return None;
     }
     let step = partial_descriptors.nrows().div_ceil(DESCRIPTOR_START_SAMPLES).max(1);
     let sample: Vec<usize> = (0..partial_descriptors.nrows()).step_by(step).collect();
-    let a = faer::Mat::<f32>::from_fn(sample.len(), d, |i, c| partial_descriptors[(sample[i], c)] as f32);
-    let full = faer::Mat::<f32>::from_fn(n, d, |i, c| full_descriptors[(i, c)] as f32);
-    let norm2 = |m: &faer::Mat<f32>, i: usize| (0..d).map(|c| m[(i, c)] * m[(i, c)]).sum::<f32>();
-    let p2: Vec<f32> = (0..sample.len()).map(|j| norm2(&a, j)).collect();
+    let a = SingleRows::of_rows(partial_descriptors, &sample);
+    let full = SingleRows::new(full_descriptors);
     // Per full vertex the nearest sampled partial vertex; per sampled partial vertex the
     // nearest and second-nearest full vertices (ties to the lower index), by squared
     // single-precision distances. Blocks of full rows in parallel, merged in row order: the
@@ -193,16 +192,16 @@ pub fn descriptor_matches(full_descriptors: &faer::Mat<f64>, partial_descriptors
         .par_iter()
         .map(|&start| {
             let rows = DESCRIPTOR_START_BLOCK.min(n - start);
-            let block = full.as_ref().subrows(start, rows);
+            let block = full.rows.as_ref().subrows(start, rows);
             let mut dot = faer::Mat::<f32>::zeros(rows, sample.len());
-            faer::linalg::matmul::matmul(dot.as_mut(), faer::Accum::Replace, block, a.transpose(), 1.0f32, faer::Par::Seq);
+            faer::linalg::matmul::matmul(dot.as_mut(), faer::Accum::Replace, block, a.rows.transpose(), 1.0f32, faer::Par::Seq);
             let mut own = vec![0usize; rows];
             let mut nearest = vec![Nearest2::NONE; sample.len()];
             for r in 0..rows {
-                let f2 = norm2(&full, start + r);
+                let f2 = full.norms2[start + r];
                 let mut best = (f32::INFINITY, 0usize);
                 for (j, near) in nearest.iter_mut().enumerate() {
-                    let distance2 = (f2 + p2[j] - 2.0 * dot[(r, j)]).max(0.0);
+                    let distance2 = (f2 + a.norms2[j] - 2.0 * dot[(r, j)]).max(0.0);
                     if distance2 < best.0 {
                         best = (distance2, j);
                     }

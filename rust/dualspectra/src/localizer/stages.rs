@@ -333,7 +333,7 @@ pub(super) fn locate(loc: &Localizer, partial: &SharedPartial<'_>, initial_regio
     let (target, level, level_notes) = target_on_its_mesh(loc, partial, effort, progress)?;
     let t_pre = clock.lap();
     progress.report(0.05, "starts")?;
-    let starts = starts_for(&level, &target, initial_regions, effort.plane_cuts, effort.plane_cuts_beside_descriptors);
+    let starts = starts_for(&level, &target, initial_regions, effort);
     if starts.is_empty() {
         return Err(Error::InvalidArgument("no starts (plane_cuts = 0, no initial region, and no descriptor start)".into()));
     }
@@ -370,8 +370,9 @@ pub(super) fn locate(loc: &Localizer, partial: &SharedPartial<'_>, initial_regio
 /// what the optimisation begins from (a diagnostic; [`Localizer::start_regions`]).
 #[cfg_attr(not(feature = "lab"), allow(dead_code))] // used by the lab and the tests
 pub(super) fn start_regions(loc: &Localizer, partial: &TriMesh) -> Result<Vec<(String, Vec<bool>)>> {
-    let (target, level, _) = target_on_its_mesh(loc, &SharedPartial::new(partial), Effort::of(&loc.options), &Progress::none())?;
-    starts_for(&level, &target, &[], loc.options.plane_cuts, true)
+    let effort = Effort::of(&loc.options);
+    let (target, level, _) = target_on_its_mesh(loc, &SharedPartial::new(partial), effort, &Progress::none())?;
+    starts_for(&level, &target, &[], effort)
         .into_iter()
         .map(|s| {
             let low: Vec<f64> = s.w0.iter().map(|w| -w).collect();
@@ -531,11 +532,11 @@ fn target(loc: &Localizer, partial: &SharedPartial<'_>, effort: Effort, progress
     Ok((Target { shape, area, factor, terms, spectra, descriptors, matches, has_holes, warnings }, level, notes))
 }
 
-/// Stage 2: the starts. Given regions first, then the first `plane_cuts` plane cuts (not for
-/// a partial with holes, nor without `beside_descriptors`, unless there is no descriptor
-/// start), then the two descriptor starts (the regions whose SHOT descriptors the partial's
-/// resemble).
-fn starts_for(level: &OptimisationMesh, target: &Target, initial_regions: &[Vec<bool>], plane_cuts: usize, beside_descriptors: bool) -> Vec<Start> {
+/// Stage 2: the starts. Given regions first, then the first `effort.plane_cuts` plane cuts
+/// (not for a partial with holes, nor without `effort.plane_cuts_beside_descriptors`, unless
+/// there is no descriptor start), then the two descriptor starts (the regions whose SHOT
+/// descriptors the partial's resemble).
+fn starts_for(level: &OptimisationMesh, target: &Target, initial_regions: &[Vec<bool>], effort: Effort) -> Vec<Start> {
     let mass = level.coarse.mass();
     let mut out: Vec<Start> = initial_regions
         .iter()
@@ -552,9 +553,9 @@ fn starts_for(level: &OptimisationMesh, target: &Target, initial_regions: &[Vec<
     // A partial with holes is no plane cut: its plane starts added nothing but time
     // (docs/benchmarks/options.md, "Starts for each kind of partial"); they stay when there
     // is no descriptor start. A search's quick localizations leave them out the same way
-    // (`beside_descriptors` false: docs/benchmarks/options.md, "Two-stage search").
-    if (!target.has_holes && beside_descriptors) || descriptor_starts.is_empty() {
-        let heights = &level.plane_heights[..plane_cuts.min(level.plane_heights.len())];
+    // (`plane_cuts_beside_descriptors` false: docs/benchmarks/options.md, "Two-stage search").
+    if (!target.has_holes && effort.plane_cuts_beside_descriptors) || descriptor_starts.is_empty() {
+        let heights = &level.plane_heights[..effort.plane_cuts.min(level.plane_heights.len())];
         out.extend(starts::plane_cut_starts_from_heights(heights, mass, target.area));
     }
     out.extend(descriptor_starts);
