@@ -241,12 +241,17 @@ def test_batch_in_two_stages_ranks_as_the_search_does(
     prepared: List[ds.Localizer], library: List[Mesh], partials: List[Mesh]
 ) -> None:
     """Shortlist 3 of 4 shapes: the batch localizes each shortlisted pair quickly, then the
-    best two again in full (a second round of tasks), as ``search`` does: the same order,
-    scores, regions, quick flags, screen scores and confidences."""
+    best (and the second best when close behind) again in full (a second round of tasks), as
+    ``search`` does: the same order, scores, regions, quick flags, screen scores and
+    confidences."""
     got = search_batch(partials, prepared, shortlist=3)
     for p, ranking in zip(partials, got):
         found = ds.search(p, prepared, shortlist=3)
-        assert [m.quick for m in found] == [False, False, True, False], "two in full, one quick, one screened out"
+        flags = [m.quick for m in found]
+        in_full = flags[:3].count(False)
+        assert 1 <= in_full <= 2 and flags == [False] * in_full + [True] * (3 - in_full) + [False], (
+            "the best (and maybe the second) in full, then quick, one screened out"
+        )
         assert [(m.index, m.score, m.quick, m.screen_score) for m in ranking] == [
             (m.index, m.score, m.quick, m.screen_score) for m in found
         ]

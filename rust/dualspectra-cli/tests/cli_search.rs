@@ -232,7 +232,8 @@ fn an_indexed_library_is_screened_and_only_the_shortlist_localized() {
 }
 
 /// A shortlist of 3 of 4 shapes (the partial's own figure twice) is localized quickly and
-/// the best two again in full: the table marks the quick one, the JSON says which is which.
+/// the best two (tied, so the second is close behind) again in full: the table marks the quick
+/// one, the JSON says which is which.
 #[test]
 fn a_shortlist_is_localized_quickly_and_its_best_two_in_full() {
     let d = library();

@@ -177,7 +177,8 @@ fn a_localization_keeps_an_infinite_similarity_through_json() {
 }
 
 /// A screened search with a shortlist below the library's size localizes its shortlist
-/// quickly and the two best of those again in full: the full ones are exactly
+/// quickly and the best of those again in full, with the second (the partial's own figure
+/// twice: tied, so close behind); the full ones are exactly
 /// `Localizer::locate`'s answers, the quick one is exactly a localization from the descriptor
 /// starts (no plane cut), at most 2 iterations and at most 10 eigenvalues, and the shape the
 /// screen leaves out

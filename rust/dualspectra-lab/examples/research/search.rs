@@ -225,6 +225,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 search_screened(&partial, &screen, scale, shortlist, open, usize::MAX, &Progress::none())?
             };
             let search_seconds = t.elapsed().as_secs_f64();
+            // The quick localization of each model refined in full (the search keeps only the
+            // full one): what the quick ranking saw, for studying which models to refine.
+            let refined_quick: Vec<Option<f64>> = found
+                .iter()
+                .map(|m| (!one_stage && !m.quick && m.localization.is_some()).then(|| dualspectra::search::locate_quick(&models[kept[m.index]], &partial, &Progress::none()).ok().map(|l| l.similarity_score)).flatten())
+                .collect();
+            let t = Instant::now();
+            screen.rank(&partial, scale, &Progress::none())?;
+            let screen_seconds = t.elapsed().as_secs_f64();
             let (full, _) = read_mesh_with_report(&pair.full, &ReadOptions::default())?;
             let t = Instant::now();
             let one = localize(&full, &partial, &Options { scale: Scale::Same, ..options.clone() }, &Progress::none());
@@ -238,14 +247,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             });
             let ranking: Vec<serde_json::Value> = found
                 .iter()
-                .map(|m| {
+                .zip(&refined_quick)
+                .map(|(m, refined_quick)| {
                     let model = kept[m.index];
                     serde_json::json!({
                         "model": names[model], "class": classes[model], "score": m.score.is_finite().then_some(m.score),
                         "confidence": m.localization.as_ref().map(|l| l.confidence), "quick": m.quick, "located": m.localization.is_some(),
                         "seconds": m.localization.as_ref().map(|l| l.timings.total), "timings": m.localization.as_ref().map(|l| serde_json::to_value(&l.timings).unwrap_or_default()),
                         "cost": m.localization.as_ref().map(|l| l.cost), "factor": m.localization.as_ref().map(|l| l.scale),
-                        "screen_score": m.screen_score, "search_confidence": m.localization.is_some().then_some(m.confidence),
+                        "screen_score": m.screen_score, "quick_score": refined_quick, "search_confidence": m.localization.is_some().then_some(m.confidence),
                         "chosen": m.localization.as_ref().and_then(|l| l.candidates.get(l.selected_start)).map(|c| serde_json::to_value(c.scores).unwrap_or_default()),
                     })
                 })
@@ -256,7 +266,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 "{}",
                 serde_json::json!({
                     "set": set, "partial": pair.name, "right": right, "rank": rank, "one_stage": one_stage, "shortlist": shortlist,
-                    "search_seconds": search_seconds, "one_seconds": one_seconds, "one_auto_seconds": one_auto_seconds, "one_error": one.err().map(|e| e.to_string()),
+                    "search_seconds": search_seconds, "screen_seconds": screen_seconds, "one_seconds": one_seconds, "one_auto_seconds": one_auto_seconds, "one_error": one.err().map(|e| e.to_string()),
                     "ranking": ranking,
                 })
             )?;

@@ -550,7 +550,8 @@ def search(
     ``shortlist`` below the number of shapes, a screen (a few SHOT descriptors per shape)
     ranks them first and the partial is located on the ``shortlist`` best only (of the
     meshes among ``fulls``, only those are prepared): quickly (fewer starts, iterations and eigenvalues, on the regular optimisation mesh even for a partial with holes,
-    :attr:`Match.quick`), then again in full on the best two of those, which rank first.
+    :attr:`Match.quick`), then again in full on the best of those (and the second best
+    when its quick score is within 4 % of the best's), which rank first.
 
     Args:
         partial: the partial shape N, ``(vertices, faces)``.

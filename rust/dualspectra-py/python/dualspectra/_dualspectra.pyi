@@ -217,8 +217,9 @@ class Match:
     @property
     def quick(self) -> bool:
         """Whether ``localization`` is a screened search's quick one (fewer starts, iterations
-        and eigenvalues, ranking the shortlist) rather than a full localization: the best two of
-        the shortlist are localized again in full and ranked first."""
+        and eigenvalues, ranking the shortlist) rather than a full localization: the best of the
+        shortlist (and the second best when its quick score is within 4 % of the best's) is
+        localized again in full and ranked first."""
     @property
     def confidence(self) -> float:
         """How much to trust that the partial is a part of this shape rather than of another

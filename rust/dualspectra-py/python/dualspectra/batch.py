@@ -13,8 +13,9 @@ ranked here by the library's screen and only its ``shortlist`` best (partial, fu
 pairs become work for the tasks; the others are listed after the localized shapes, screened
 out (as :func:`dualspectra.search` lists them). As in :func:`dualspectra.search`, a shortlist
 shorter than the library and longer than two is localized in two stages: every shortlisted
-pair quickly (fewer starts, iterations and eigenvalues, on the regular optimisation mesh even for a partial with holes; :attr:`BatchMatch.quick`), then the two best of
-each partial's quick ranking again in full, in a second round of tasks. The core decides
+pair quickly (fewer starts, iterations and eigenvalues, on the regular optimisation mesh even for a partial with holes; :attr:`BatchMatch.quick`), then the best of
+each partial's quick ranking (and the second best when close behind it) again in full, in a
+second round of tasks. The core decides
 which pairs and in what order (``in_two_stages``, ``shapes_to_refine``,
 ``two_stage_order``), so a batch ranks as :func:`dualspectra.search` does.
 
@@ -239,8 +240,9 @@ def search_batch(
         shortlist: locate each partial on the ``shortlist`` full shapes (among its pairs)
             that the library's screen ranks best only (default: on every one, no screen).
             A shortlist shorter than the full shapes and longer than two is localized in
-            two stages, as by :func:`dualspectra.search`: quickly, then the two best again
-            in full (the others keep their quick localization, :attr:`BatchMatch.quick`).
+            two stages, as by :func:`dualspectra.search`: quickly, then the best (and the second
+            best when its quick score is within 4 % of the best's) again in full (the others
+            keep their quick localization, :attr:`BatchMatch.quick`).
             The screen ranks the partials here, before the tasks start; the shapes it leaves
             out follow the localized ones in the partial's ranking, in screen order, with
             ``score = inf`` and their ``screen_score``. It uses the ``scale`` option given,

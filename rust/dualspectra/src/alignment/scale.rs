@@ -47,6 +47,8 @@ pub(crate) struct ScaleScan {
     partial: TriMesh,
     area: f64,
     keypoints: Vec<u32>,
+    /// The distance between keypoints `i < j`, row by row (`(0, 1), (0, 2), ..., (1, 2), ...`).
+    keypoint_distances: Vec<f64>,
     log_a: Vec<f64>,
     descriptors: Vec<std::sync::OnceLock<Mat<f64>>>,
 }
@@ -61,9 +63,10 @@ impl ScaleScan {
         let n = partial.n_vertices();
         let step = n.div_ceil(KEYPOINTS).max(1);
         let keypoints: Vec<u32> = (0..n as u32).step_by(step).collect();
+        let keypoint_distances = pairwise_distances(partial.vertices(), &keypoints);
         let log_a = area_grid();
         let descriptors = (0..log_a.len()).map(|_| std::sync::OnceLock::new()).collect();
-        Ok(ScaleScan { partial, area, keypoints, log_a, descriptors })
+        Ok(ScaleScan { partial, area, keypoints, keypoint_distances, log_a, descriptors })
     }
 
     /// The partial it scans.
@@ -110,7 +113,7 @@ impl ScaleScan {
             let d = self.descriptors(i)?;
             let (distances, matches) = nearest_rows(full_descriptors, &full32, d);
             let distance = distances.iter().sum::<f64>() / distances.len() as f64;
-            let consistency = match_consistency(&self.partial, &self.keypoints, s, full_positions, &matches);
+            let consistency = match_consistency(&self.keypoint_distances, s, full_positions, &matches);
             Ok(Hypothesis { distance, consistency })
         };
         let (best, costs) = coarse_to_fine_minimum(count, |i| Ok(hypothesis(i)?.cost()))?;
@@ -154,22 +157,35 @@ const CONSISTENCY_FLOOR: f64 = 0.05;
 /// Largest $|\ln(f/e)|$ of a consistent pair (20 %).
 const CONSISTENT_LOG_RATIO: f64 = 0.2;
 
-/// The fraction of pairs of partial keypoints (positions times `s`, farther apart than the
-/// SHOT radius $r_0$) whose distance $e$ is kept by their nearest-descriptor matches on the
-/// full shape (distance $f$): $|\ln(f/e)| <$ [`CONSISTENT_LOG_RATIO`]. Matches at the right
-/// scale are near their true places, so they keep the partial's distances; at a wrong scale
-/// they scatter. `matches` index `full_positions`.
-fn match_consistency(partial: &TriMesh, keypoints: &[u32], s: f64, full_positions: &[[f64; 3]], matches: &[usize]) -> f64 {
-    let pos = partial.vertices();
+/// The distances between `points[keypoints[i]]` and `points[keypoints[j]]` for `i < j`, row by
+/// row: the input of [`match_consistency`].
+fn pairwise_distances(points: &[[f64; 3]], keypoints: &[u32]) -> Vec<f64> {
+    (0..keypoints.len())
+        .flat_map(|i| keypoints[i + 1..].iter().map(move |&j| (keypoints[i], j)))
+        .map(|(i, j)| distance(points[i as usize], points[j as usize]))
+        .collect()
+}
+
+/// The fraction of pairs of partial keypoints (distance `keypoint_distances` times `s`, the
+/// pairs $i < j$ row by row, farther apart than the SHOT radius $r_0$) whose distance $e$ is
+/// kept by their nearest-descriptor matches on the full shape (distance $f$):
+/// $|\ln(f/e)| <$ [`CONSISTENT_LOG_RATIO`], tested as $e^{-0.2} < f/e < e^{0.2}$. Matches at the
+/// right scale are near their true places, so they keep the partial's distances; at a wrong
+/// scale they scatter. `matches` (one per keypoint) index `full_positions`.
+fn match_consistency(keypoint_distances: &[f64], s: f64, full_positions: &[[f64; 3]], matches: &[usize]) -> f64 {
+    let (low, high) = ((-CONSISTENT_LOG_RATIO).exp(), CONSISTENT_LOG_RATIO.exp());
     let (mut pairs, mut consistent) = (0usize, 0usize);
-    for i in 0..keypoints.len() {
-        for j in i + 1..keypoints.len() {
-            let e = s * distance(pos[keypoints[i] as usize], pos[keypoints[j] as usize]);
+    let mut distances = keypoint_distances.iter();
+    for i in 0..matches.len() {
+        let from = full_positions[matches[i]];
+        for (&to, &d) in matches[i + 1..].iter().zip(distances.by_ref()) {
+            let e = s * d;
             if e <= shot::DEFAULT_RADIUS_FRACTION {
                 continue;
             }
             pairs += 1;
-            if (distance(full_positions[matches[i]], full_positions[matches[j]]) / e).ln().abs() < CONSISTENT_LOG_RATIO {
+            let ratio = distance(from, full_positions[to]) / e;
+            if ratio > low && ratio < high {
                 consistent += 1;
             }
         }
@@ -382,17 +398,52 @@ mod tests {
         let keypoints: Vec<u32> = (0..mesh.n_vertices() as u32).collect();
         let identity: Vec<usize> = (0..mesh.n_vertices()).collect();
         let positions = mesh.vertices();
-        assert_eq!(match_consistency(&mesh, &keypoints, 1.0, positions, &identity), 1.0);
-        assert_eq!(match_consistency(&mesh, &keypoints, 2.0, positions, &identity), 0.0);
+        let distances = pairwise_distances(positions, &keypoints);
+        assert_eq!(match_consistency(&distances, 1.0, positions, &identity), 1.0);
+        assert_eq!(match_consistency(&distances, 2.0, positions, &identity), 0.0);
         let reversed: Vec<usize> = identity.iter().rev().copied().collect();
-        let scattered = match_consistency(&mesh, &keypoints, 1.0, positions, &reversed);
+        let scattered = match_consistency(&distances, 1.0, positions, &reversed);
         // Reversal is a point reflection of the square: it keeps distances.
         assert_eq!(scattered, 1.0);
         let shuffled: Vec<usize> = identity.iter().map(|&i| (i * 37 + 11) % identity.len()).collect();
-        let c = match_consistency(&mesh, &keypoints, 1.0, positions, &shuffled);
+        let c = match_consistency(&distances, 1.0, positions, &shuffled);
         assert!(c < 0.3, "shuffled matches: consistency {c}");
         // No pair farther apart than the SHOT radius: nothing to count.
-        assert_eq!(match_consistency(&mesh, &keypoints, 1e-3, positions, &identity), 0.0);
+        assert_eq!(match_consistency(&distances, 1e-3, positions, &identity), 0.0);
+    }
+
+    /// The ratio test is the definition $|\ln(f/e)| < 0.2$: the same fraction as the
+    /// logarithm on every pair, for matches near and far and factors around the truth.
+    #[test]
+    fn consistency_is_the_log_ratio_rule() {
+        let mesh = crate::mesh::generate::grid(1.0, 1.0, 15, 11);
+        let positions = mesh.vertices();
+        let keypoints: Vec<u32> = (0..mesh.n_vertices() as u32).step_by(2).collect();
+        let distances = pairwise_distances(positions, &keypoints);
+        let by_logarithm = |s: f64, matches: &[usize]| {
+            let (mut pairs, mut kept) = (0, 0);
+            for i in 0..keypoints.len() {
+                for j in i + 1..keypoints.len() {
+                    let e = s * distance(positions[keypoints[i] as usize], positions[keypoints[j] as usize]);
+                    if e > shot::DEFAULT_RADIUS_FRACTION {
+                        pairs += 1;
+                        kept += usize::from((distance(positions[matches[i]], positions[matches[j]]) / e).ln().abs() < CONSISTENT_LOG_RATIO);
+                    }
+                }
+            }
+            kept as f64 / pairs as f64
+        };
+        let n = positions.len();
+        let mut partly = 0;
+        for shift in [0usize, 1, 7, 40] {
+            let matches: Vec<usize> = keypoints.iter().map(|&k| (k as usize * 13 * usize::from(shift > 1) + k as usize + shift) % n).collect();
+            for s in [0.7, 0.9, 1.0, 1.15, 1.3] {
+                let c = match_consistency(&distances, s, positions, &matches);
+                assert_eq!(c, by_logarithm(s, &matches), "shift {shift}, factor {s}");
+                partly += usize::from(c > 0.05 && c < 0.95);
+            }
+        }
+        assert!(partly >= 5, "only {partly} cases keep some pairs and lose others");
     }
 
     /// The cost falls with the descriptor distance and with the consistency.

@@ -86,9 +86,14 @@ where
     Ok(kept)
 }
 
-/// Shortlisted shapes localized in full after the quick ranking of the shortlist: those the
-/// quick localizations rank best (docs/benchmarks/options.md, "Two-stage search").
+/// Shortlisted shapes localized in full after the quick ranking of the shortlist, at most:
+/// those the quick localizations rank best (docs/benchmarks/options.md, "Two-stage search").
 pub(crate) const REFINED_SHAPES: usize = 2;
+
+/// A shape after the quick ranking's best is localized in full only when its quick score is
+/// within this fraction of the best's: on the dev queries a full localization overtook the
+/// quick best from at most 2.6 % behind (docs/benchmarks/options.md, "Two-stage search").
+pub(crate) const REFINED_WITHIN: f64 = 0.04;
 
 /// The quick localizations that rank a shortlist: the two descriptor starts (the first 2
 /// plane-cut starts of the default 6 only where there is no descriptor start), 2
@@ -178,9 +183,10 @@ fn every_shape_failed<E: From<Error>>(found: &[Match], first_error: Option<Error
 /// A search after a screen: the `n = screen.len()` shapes are scored by `screen`
 /// ([`Screen::rank`], with the partial's `scale`) and only the `shortlist` best are opened
 /// (`open(i, progress)`, `i` the shape's index in the screen) and localized, in two stages:
-/// each shortlisted shape is localized quickly (fewer starts, iterations and eigenvalues, on the regular optimisation mesh even for a partial with holes: the
-/// [`Match::quick`] ones), then the [`REFINED_SHAPES`] best of those again in full, as by
-/// [`Localizer::locate`]. The answer ranks the fully localized shapes by similarity score,
+/// each shortlisted shape is localized quickly (fewer starts, iterations and eigenvalues, on
+/// the regular optimisation mesh even for a partial with holes: the [`Match::quick`] ones),
+/// then the best of those again in full, as by [`Localizer::locate`], and the second best too
+/// when it is close behind ([`shapes_to_refine`]). The answer ranks the fully localized shapes by similarity score,
 /// then the quick ones, then the others in screen order (screened out: no localization, no
 /// error, score `+inf`), each with its [`Match::screen_score`]; the `top` best are returned.
 /// With `shortlist >= n` every shape is localized in full (the exhaustive search), as by
@@ -261,9 +267,14 @@ pub fn locate_quick(shape: &Localizer, partial: &TriMesh, progress: &Progress) -
 
 /// The full shapes a two-stage search localizes again in full, from the quick ranking's
 /// `(similarity score, full shape index)` pairs (`+inf`: not located): the indices of the
-/// [`REFINED_SHAPES`] best, in ranking order, those not located left out.
+/// [`REFINED_SHAPES`] best, in ranking order, those not located left out, and after the
+/// best only those whose score $s$ is within [`REFINED_WITHIN`] of the best's $s_1$
+/// ($s \le s_1 + 0.04\,|s_1|$).
 pub fn shapes_to_refine(quick: &[(f64, usize)]) -> Vec<usize> {
-    rank(quick, REFINED_SHAPES).into_iter().filter(|&i| quick[i].0.is_finite()).map(|i| quick[i].1).collect()
+    let best = rank(quick, REFINED_SHAPES);
+    let Some(&first) = best.first() else { return Vec::new() };
+    let lowest = quick[first].0;
+    best.into_iter().filter(|&i| quick[i].0.is_finite() && quick[i].0 <= lowest + REFINED_WITHIN * lowest.abs()).map(|i| quick[i].1).collect()
 }
 
 /// The answer's order of a two-stage search from its full and quick localizations'
@@ -405,6 +416,18 @@ mod tests {
         assert_eq!(shapes_to_refine(&quick), vec![3, 9]);
         assert_eq!(shapes_to_refine(&[(f64::INFINITY, 0), (0.4, 2)]), vec![2]);
         assert!(shapes_to_refine(&[(f64::INFINITY, 0)]).is_empty());
+        assert!(shapes_to_refine(&[]).is_empty());
+    }
+
+    #[test]
+    fn a_second_shape_is_refined_only_close_behind_the_first() {
+        let within = 0.4 * (1.0 + REFINED_WITHIN) - 1e-12;
+        assert_eq!(shapes_to_refine(&[(0.4, 0), (within, 1), (0.5, 2)]), vec![0, 1]);
+        let behind = 0.4 * (1.0 + REFINED_WITHIN) + 1e-12;
+        assert_eq!(shapes_to_refine(&[(0.4, 0), (behind, 1), (0.5, 2)]), vec![0]);
+        // A perfect fit first: only its ties follow it.
+        assert_eq!(shapes_to_refine(&[(0.0, 5), (1e-9, 6)]), vec![5]);
+        assert_eq!(shapes_to_refine(&[(0.0, 5), (0.0, 6)]), vec![5, 6]);
     }
 
     #[test]
