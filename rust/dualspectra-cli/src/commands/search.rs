@@ -376,9 +376,10 @@ pub fn run(args: Args) -> Result<(), CliError> {
     let in_full = found.iter().filter(|m| m.localization.is_some() && !m.quick).count();
     if screened && found.iter().any(|m| m.quick) {
         table.push_str(&format!(
-            "{} shapes screened, the {} best localized quickly and the {in_full} best of those in full, in {seconds:.2} s\n",
+            "{} shapes screened, the {} best localized quickly and {} of those in full, in {seconds:.2} s\n",
             paths.len(),
-            args.shortlist.min(paths.len())
+            args.shortlist.min(paths.len()),
+            refined_in_full(in_full)
         ));
     } else if screened {
         table.push_str(&format!("{} shapes screened, the {} best localized, in {seconds:.2} s\n", paths.len(), args.shortlist));
@@ -386,4 +387,21 @@ pub fn run(args: Args) -> Result<(), CliError> {
         table.push_str(&format!("{} shapes searched in {seconds:.2} s\n", paths.len()));
     }
     print_stdout(&table)
+}
+
+/// How the summary line names the shapes a two-stage search localized again in full: "the
+/// best" for one, "the N best" for more.
+fn refined_in_full(count: usize) -> String {
+    if count == 1 { "the best".to_string() } else { format!("the {count} best") }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::refined_in_full;
+
+    #[test]
+    fn one_refined_shape_is_the_best() {
+        assert_eq!(refined_in_full(1), "the best");
+        assert_eq!(refined_in_full(2), "the 2 best");
+    }
 }
