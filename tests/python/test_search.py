@@ -191,6 +191,38 @@ def test_batch_pairs_and_top(library: List[Mesh], partials: List[Mesh], serial: 
     assert seen and seen[-1] >= 0.2
 
 
+def test_a_batch_in_other_units_takes_each_partial_in_once(
+    monkeypatch: pytest.MonkeyPatch, library: List[Mesh], partials: List[Mesh]
+) -> None:
+    """With ``scale="auto"`` each partial is taken in once for every full shape (its scale
+    scan made once, as ``ds.search`` makes it), and the rankings are ``ds.search``'s; a
+    partial beyond the ones a process keeps is taken in again per shape, same answers."""
+    import dualspectra.batch as batch
+
+    made: List[int] = []
+    real = _dualspectra.PreparedPartial
+
+    def counted(vertices: np.ndarray, faces: np.ndarray) -> Any:
+        made.append(len(vertices))
+        return real(vertices, faces)
+
+    monkeypatch.setattr(_dualspectra, "PreparedPartial", counted)
+    in_mm = [(1000.0 * v, f) for v, f in partials]
+    auto = dict(LIGHT, scale="auto")
+    got = search_batch(in_mm, library, **auto)
+    assert len(made) == len(in_mm), "one intake per partial, not one per (partial, full shape)"
+    assert not batch._prepared_partials, "the batch's partials are dropped at its end"
+    for i, ranking in enumerate(got):
+        expected = ds.search(in_mm[i], library, **auto)
+        assert [(m.index, m.score) for m in ranking] == [(m.index, m.score) for m in expected]
+        assert all(m.error is None and m.region is not None for m in ranking)
+    made.clear()
+    monkeypatch.setattr(batch, "_PREPARED_PARTIALS", 1)
+    again = search_batch(in_mm, library, **auto)
+    assert len(made) == 1 + len(library), "the first partial kept, the second taken in per shape"
+    assert [[batch_key(m) for m in r] for r in again] == [[batch_key(m) for m in r] for r in got]
+
+
 def test_batch_on_a_local_dask_cluster_equals_the_serial_run(
     tmp_path: Path, library: List[Mesh], partials: List[Mesh], prepared: ds.Localizer, serial: List[List[BatchMatch]]
 ) -> None:

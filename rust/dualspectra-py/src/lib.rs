@@ -28,6 +28,7 @@ fn _dualspectra(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<localization::Localization>()?;
     m.add_class::<localization::Candidate>()?;
     m.add_class::<localization::Localizer>()?;
+    m.add_class::<localization::PreparedPartial>()?;
     m.add_class::<search::Match>()?;
     m.add_class::<screen::Screen>()?;
     m.add_function(wrap_pyfunction!(localization::localize, m)?)?;

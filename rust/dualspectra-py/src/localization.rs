@@ -252,6 +252,30 @@ pub struct Localizer {
     note: Option<String>,
 }
 
+/// A partial shape taken in once to be located on several full shapes
+/// (`dualspectra::search::PreparedPartial`): what every localization needs of the partial
+/// alone is computed by the first that needs it and kept. Private to the batch module.
+#[pyclass(frozen, module = "dualspectra._dualspectra", name = "PreparedPartial")]
+pub struct PreparedPartial {
+    inner: dualspectra::search::PreparedPartial,
+    /// What the intake of the partial mesh changed.
+    note: Option<String>,
+}
+
+#[pymethods]
+impl PreparedPartial {
+    #[new]
+    fn new(vertices: PyReadonlyArray2<'_, f64>, faces: PyReadonlyArray2<'_, i64>) -> PyResult<Self> {
+        let partial = intake("partial mesh", &vertices, &faces)?;
+        let note = partial.warning("partial mesh");
+        Ok(PreparedPartial { inner: dualspectra::search::PreparedPartial::new(partial.mesh), note })
+    }
+
+    fn __repr__(&self) -> String {
+        format!("PreparedPartial(vertices={})", self.inner.mesh().n_vertices())
+    }
+}
+
 impl Localizer {
     /// The full mesh's intake note, if any, and the core's notes.
     fn all_warnings(&self) -> Vec<String> {
@@ -264,7 +288,7 @@ impl Localizer {
     }
 
     /// The partial `(vertices, faces)` taken in and located by `how` (with `progress`, the GIL
-    /// released), as a Python result with this shape's notes: `locate` and `locate_quick`.
+    /// released), as a Python result with this shape's notes.
     fn locate_by(
         &self,
         py: Python<'_>,
@@ -368,17 +392,16 @@ impl Localizer {
         self.locate_by(py, &vertices, &faces, progress, dualspectra::Localizer::locate)
     }
 
-    /// `locate` as a two-stage search's quick localization (`dualspectra::search::locate_quick`:
-    /// fewer starts, iterations and eigenvalues, on the regular optimisation mesh even for a partial with holes), for batches that run the stages themselves.
-    #[pyo3(signature = (vertices, faces, progress=None))]
-    fn locate_quick(
-        &self,
-        py: Python<'_>,
-        vertices: PyReadonlyArray2<'_, f64>,
-        faces: PyReadonlyArray2<'_, i64>,
-        progress: Option<Py<PyAny>>,
-    ) -> PyResult<Localization> {
-        self.locate_by(py, &vertices, &faces, progress, dualspectra::search::locate_quick)
+    /// `locate` of a prepared partial (`dualspectra::search::locate_prepared`), as a search
+    /// locates it: with `quick`, the two-stage search's quick localization (fewer starts,
+    /// iterations and eigenvalues, on the regular optimisation mesh even for a partial with
+    /// holes). For batches that run a search's localizations themselves: what the partial
+    /// alone needs (the `scale = auto` scan) is computed once for every shape it is located on.
+    #[pyo3(signature = (partial, quick=false, progress=None))]
+    fn locate_prepared(&self, py: Python<'_>, partial: &PreparedPartial, quick: bool, progress: Option<Py<PyAny>>) -> PyResult<Localization> {
+        check_callable(py, &progress)?;
+        let r = with_progress(py, progress, |p| dualspectra::search::locate_prepared(&self.inner, &partial.inner, quick, p))?;
+        Localization::new(py, r, &self.host, self.note.iter().cloned().chain(partial.note.clone()).collect())
     }
 
     /// Vertices of the caller's full mesh (the length of every per-vertex result).

@@ -33,6 +33,12 @@ fn cut(mesh: &TriMesh, keep: impl Fn([f64; 3]) -> bool) -> (TriMesh, Vec<bool>) 
     (part, mask)
 }
 
+/// A two-stage search's quick localization of `partial` on `localizer`.
+fn locate_quick(localizer: &Localizer, partial: &TriMesh) -> dualspectra::Localization {
+    let prepared = dualspectra::search::PreparedPartial::new(partial.clone());
+    dualspectra::search::locate_prepared(localizer, &prepared, true, &Progress::none()).unwrap()
+}
+
 fn iou(a: &[bool], b: &[bool]) -> f64 {
     let i = a.iter().zip(b).filter(|(x, y)| **x && **y).count() as f64;
     let u = a.iter().zip(b).filter(|(x, y)| **x || **y).count() as f64;
@@ -384,10 +390,10 @@ fn a_partial_with_holes_is_optimised_on_the_finer_mesh_without_plane_starts() {
     assert_eq!(planes(&found), 0);
     assert!(found.candidates.iter().any(|c| c.label == "descriptor-vote"));
     // A search's quick localization, which only ranks its shortlist, stays on the prepared mesh.
-    let quick = dualspectra::search::locate_quick(&localizer, &holed, &Progress::none()).unwrap();
+    let quick = locate_quick(&localizer, &holed);
     assert_eq!(quick.optimisation_vertices, coarse);
     // It starts the clean cut from its descriptors only, as a partial with holes.
-    let quick_clean = dualspectra::search::locate_quick(&localizer, &clean, &Progress::none()).unwrap();
+    let quick_clean = locate_quick(&localizer, &clean);
     assert_eq!(planes(&quick_clean), 0);
     assert!(quick_clean.candidates.iter().any(|c| c.label == "descriptor-fit"));
     let loaded = Localizer::from_bytes(&localizer.to_bytes()).unwrap();

@@ -6,7 +6,7 @@
 
 use dualspectra::evaluation::synthetic::{figure, horned_limbs, quadruped_limbs, synthetic_pair, SyntheticPair, SyntheticParams};
 use dualspectra::lab::selection::similarity_score;
-use dualspectra::search::{rank, search_confidences};
+use dualspectra::search::{locate_prepared, rank, search_confidences, PreparedPartial};
 use dualspectra::{search, search_screened, search_with, Error, Localizer, Match, Options, Progress, Scale, Screen, ScreenEntry, TriMesh};
 use std::borrow::Borrow;
 use std::cell::Cell;
@@ -227,6 +227,34 @@ fn a_screened_search_localizes_its_shortlist_quickly_and_the_best_again_in_full(
     // A shortlist of the whole library localizes every shape in full.
     let every = search_screened(&pair().partial, &screen, Scale::Same, 4, |i, _| Ok::<_, Error>(shapes[i]), usize::MAX, &Progress::none()).unwrap();
     assert!(every.iter().all(|m| m.localization.is_some() && !m.quick));
+}
+
+#[test]
+fn a_prepared_partial_locates_as_its_mesh_does_on_every_shape() {
+    // In other units, with `scale = auto`: the scale scan the first localization makes is
+    // reused by the others, and every result is the one the partial's mesh gives afresh.
+    let auto = Options { scale: Scale::Auto, ..light() };
+    let [a, _] = <[TriMesh; 2]>::try_from(others()).unwrap();
+    let shapes = [Localizer::new(&pair().full, &auto).unwrap(), Localizer::new(&a, &auto).unwrap()];
+    let partial = pair().partial.map_positions(|p| p.map(|c| 1000.0 * c)).unwrap();
+    let prepared = PreparedPartial::new(partial.clone());
+    assert_eq!(prepared.mesh(), &partial);
+    for quick in [true, false] {
+        for shape in &shapes {
+            let shared = locate_prepared(shape, &prepared, quick, &Progress::none()).unwrap();
+            let fresh = locate_prepared(shape, &PreparedPartial::new(partial.clone()), quick, &Progress::none()).unwrap();
+            assert_eq!(shared.region, fresh.region);
+            assert_eq!((shared.similarity_score.to_bits(), shared.scale.to_bits()), (fresh.similarity_score.to_bits(), fresh.scale.to_bits()));
+            if !quick {
+                let direct = shape.locate(&partial, &Progress::none()).unwrap();
+                assert_eq!((direct.region, direct.cost.to_bits()), (shared.region.clone(), shared.cost.to_bits()));
+            }
+        }
+    }
+    let quick = locate_prepared(&shapes[0], &prepared, true, &Progress::none()).unwrap();
+    let full = locate_prepared(&shapes[0], &prepared, false, &Progress::none()).unwrap();
+    assert!(quick.candidates.len() < full.candidates.len(), "quick: fewer starts");
+    assert!((full.scale / 1e-3 - 1.0).abs() < 0.25, "sized back: {}", full.scale);
 }
 
 /// [`search_confidences`] of a shape of score `score` and localization confidence `p` among

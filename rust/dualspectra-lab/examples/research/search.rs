@@ -229,7 +229,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             // full one): what the quick ranking saw, for studying which models to refine.
             let refined_quick: Vec<Option<f64>> = found
                 .iter()
-                .map(|m| (!one_stage && !m.quick && m.localization.is_some()).then(|| dualspectra::search::locate_quick(&models[kept[m.index]], &partial, &Progress::none()).ok().map(|l| l.similarity_score)).flatten())
+                .map(|m| (!one_stage && !m.quick && m.localization.is_some()).then(|| dualspectra::search::locate_prepared(&models[kept[m.index]], &dualspectra::search::PreparedPartial::new(partial.clone()), true, &Progress::none()).ok().map(|l| l.similarity_score)).flatten())
                 .collect();
             let t = Instant::now();
             screen.rank(&partial, scale, &Progress::none())?;

@@ -151,6 +151,12 @@ class Localization:
         reused), preprocessing, starts, optimisation, region, selection, total."""
 
 @final
+class PreparedPartial:
+    """A partial shape taken in once to be located on several full shapes (the batch's)."""
+
+    def __new__(cls, vertices: NDArray[np.float64], faces: NDArray[np.int64]) -> PreparedPartial: ...
+
+@final
 class Localizer:
     """A full shape prepared once for locating partials on it."""
 
@@ -164,9 +170,9 @@ class Localizer:
     def locate(
         self, vertices: NDArray[np.float64], faces: NDArray[np.int64], progress: _Progress = None
     ) -> Localization: ...
-    def locate_quick(
-        self, vertices: NDArray[np.float64], faces: NDArray[np.int64], progress: _Progress = None
-    ) -> Localization: ...
+    def locate_prepared(self, partial: PreparedPartial, quick: bool = False, progress: _Progress = None) -> Localization:
+        """``locate`` of a prepared partial, as a search locates it (``quick``: its quick
+        localization)."""
     @property
     def n_vertices(self) -> int:
         """Vertices of the caller's full mesh."""

@@ -42,6 +42,8 @@ import ctypes
 import ctypes.util
 import math
 import os
+import threading
+import uuid
 import warnings
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Dict, Iterable, Iterator, List, Optional, Sequence, Set, Tuple, Union
@@ -151,15 +153,61 @@ def _unhurried_malloc() -> Iterator[None]:
         malloc_trim(0)
 
 
+#: Partials a process keeps prepared for the batch it runs (:func:`_prepared_partial`). Each
+#: holds what its localizations on every full shape share: with ``scale="auto"`` the scale
+#: estimate's descriptors of the partial, up to about 10 MB. A batch's partials beyond these
+#: are prepared afresh for each full shape, as each task goes through its partials in order
+#: (the first ones keep theirs: evicting the oldest would help no task).
+_PREPARED_PARTIALS = 32
+
+_prepared_lock = threading.Lock()
+_prepared_batch: Optional[str] = None
+_prepared_partials: Dict[int, "_dualspectra.PreparedPartial"] = {}
+
+
+def _prepared_partial(batch: str, i: int, mesh: _Mesh) -> "_dualspectra.PreparedPartial":
+    """Partial ``i`` of the batch ``batch`` (a token per :func:`search_batch` call), taken in
+    once per process for every full shape its tasks locate it on there: with
+    ``scale="auto"``, the scale estimate's scan of the partial is made by the first
+    localization and reused by the others, as :func:`dualspectra.search` reuses it. A process
+    keeps the partials of one batch, at most :data:`_PREPARED_PARTIALS`; another batch's
+    replace them. Raises ``MeshError`` for a mesh the core cannot take in."""
+    global _prepared_batch
+    with _prepared_lock:
+        if _prepared_batch != batch:
+            _prepared_partials.clear()
+            _prepared_batch = batch
+        kept = _prepared_partials.get(i)
+    if kept is not None:
+        return kept
+    prepared = _dualspectra.PreparedPartial(*mesh)
+    with _prepared_lock:
+        if _prepared_batch == batch and len(_prepared_partials) < _PREPARED_PARTIALS:
+            prepared = _prepared_partials.setdefault(i, prepared)
+    return prepared
+
+
+def _forget_batch(batch: str) -> None:
+    """Drop the partials this process keeps for ``batch`` (at its end)."""
+    global _prepared_batch
+    with _prepared_lock:
+        if _prepared_batch == batch:
+            _prepared_partials.clear()
+            _prepared_batch = None
+
+
 def _locate_on_full(
     index: int,
     full: FullShape,
     partials: Sequence[Tuple[int, _Mesh, bool]],
     options: Dict[str, OptionValue],
+    batch: str,
     progress: Optional[ProgressCallback] = None,
 ) -> List[BatchMatch]:
     """One task: prepare (or load) the full shape ``index`` once and locate every partial
-    ``(i, mesh, quick)`` on it, quickly (the core's ``locate_quick``) where ``quick``.
+    ``(i, mesh, quick)`` of ``batch`` on it, as a search does (the core's
+    ``locate_prepared``; quickly where ``quick``), each partial taken in once per process
+    (:func:`_prepared_partial`).
 
     A partial the core cannot locate on this shape (``ValueError``, ``NumericalError``)
     becomes a match with its ``error``; an invalid mesh (``MeshError``) or cancelling
@@ -169,13 +217,11 @@ def _locate_on_full(
     with warnings.catch_warnings(), _unhurried_malloc():
         warnings.simplefilter("ignore", DualspectraWarning)
         localizer = _prepared(full, options)
-        for k, (i, (vertices, faces), quick) in enumerate(partials):
+        for k, (i, mesh, quick) in enumerate(partials):
             part = _span(progress, k / len(partials), (k + 1) / len(partials))
+            prepared = _prepared_partial(batch, i, mesh)
             try:
-                if quick:
-                    found = localizer._native.locate_quick(vertices, faces, part)
-                else:
-                    found = localizer.locate(vertices, faces, progress=part)
+                found = localizer._native.locate_prepared(prepared, quick, part)
             except MeshError:
                 raise
             except (ValueError, NumericalError) as exc:
@@ -311,15 +357,20 @@ def search_batch(
     quick_share = sum(_QUICK_COST if i in two_stage else 1.0 for w in tasks.values() for i in w)
     refined_share = 2.0 * len(two_stage)
     split = quick_share / max(quick_share + refined_share, 1e-9)
-    first = _run(client, tasks, checked, meshes, two_stage, options, _span(progress, 0.0, split))
-    by_partial: List[List[BatchMatch]] = [[] for _ in meshes]
-    for m in first:
-        by_partial[m.partial].append(m)
-    refine = {i: _dualspectra.shapes_to_refine([(m.score, m.index) for m in by_partial[i]]) for i in sorted(two_stage)}
-    second = _run(
-        client, _tasks(len(meshes), len(checked), [(i, j) for i, js in refine.items() for j in js]), checked, meshes, set(),
-        options, _span(progress, split, 1.0),
-    )
+    batch = uuid.uuid4().hex
+    try:
+        first = _run(client, tasks, checked, meshes, two_stage, options, batch, _span(progress, 0.0, split))
+        by_partial: List[List[BatchMatch]] = [[] for _ in meshes]
+        for m in first:
+            by_partial[m.partial].append(m)
+        refine = {i: _dualspectra.shapes_to_refine([(m.score, m.index) for m in by_partial[i]]) for i in sorted(two_stage)}
+        refined_pairs = [(i, j) for i, js in refine.items() for j in js]
+        second = _run(
+            client, _tasks(len(meshes), len(checked), refined_pairs), checked, meshes, set(), options, batch,
+            _span(progress, split, 1.0),
+        )
+    finally:
+        _forget(client, batch)
     refined: List[List[BatchMatch]] = [[] for _ in meshes]
     for m in second:
         refined[m.partial].append(m)
@@ -347,14 +398,23 @@ def _run(
     meshes: List[_Mesh],
     quick: Set[int],
     options: Dict[str, OptionValue],
+    batch: str,
     progress: Optional[ProgressCallback],
 ) -> List[BatchMatch]:
     """Every match of ``tasks`` (partials in ``quick`` located quickly), here or on ``client``."""
     if client is None:
-        results = _run_here(tasks, fulls, meshes, quick, options, progress)
+        results = _run_here(tasks, fulls, meshes, quick, options, batch, progress)
     else:
-        results = _run_on(client, tasks, fulls, meshes, quick, options, progress)
+        results = _run_on(client, tasks, fulls, meshes, quick, options, batch, progress)
     return [m for matches in results for m in matches]
+
+
+def _forget(client: Optional[Client], batch: str) -> None:
+    """Drop the partials kept for ``batch`` here, and on the workers of ``client``."""
+    _forget_batch(batch)
+    if client is not None:
+        with contextlib.suppress(Exception):  # a lost worker keeps nothing; the answer stands
+            client.run(_forget_batch, batch)  # type: ignore[no-untyped-call, unused-ignore]
 
 
 def _with_search_confidences(ranking: List[BatchMatch]) -> List[BatchMatch]:
@@ -402,13 +462,14 @@ def _run_here(
     meshes: List[_Mesh],
     quick: Set[int],
     options: Dict[str, OptionValue],
+    batch: str,
     progress: Optional[ProgressCallback],
 ) -> List[List[BatchMatch]]:
     """The tasks in this process, one after the other."""
     results = []
     for t, (j, wanted) in enumerate(tasks.items()):
         part = _span(progress, t / len(tasks), (t + 1) / len(tasks))
-        results.append(_locate_on_full(j, fulls[j], [(i, meshes[i], i in quick) for i in wanted], options, part))
+        results.append(_locate_on_full(j, fulls[j], [(i, meshes[i], i in quick) for i in wanted], options, batch, part))
     return results
 
 
@@ -419,6 +480,7 @@ def _run_on(
     meshes: List[_Mesh],
     quick: Set[int],
     options: Dict[str, OptionValue],
+    batch: str,
     progress: Optional[ProgressCallback],
 ) -> List[List[BatchMatch]]:
     """The tasks on a Dask cluster, one per full shape; the partials are scattered once."""
@@ -435,6 +497,7 @@ def _run_on(
             fulls[j],
             [(i, scattered[i], i in quick) for i in wanted],
             options,
+            batch,
             pure=False,
         )
         for j, wanted in tasks.items()

@@ -112,6 +112,27 @@ const DESCRIPTOR_START_BLOCK: usize = 256;
 /// Rounds of one-ring averaging of the descriptor scores in [`descriptor_starts`] (not varied).
 pub const DESCRIPTOR_START_SMOOTHING: usize = 3;
 
+/// Radius (on the full shape of unit area; about 2.3 SHOT support radii) of the
+/// neighbourhood in which a descriptor vote's match is checked against its neighbours'
+/// ([`vote_consistency`]). docs/benchmarks/options.md ("Consistent votes").
+pub const VOTE_CONSISTENCY_RADIUS: f64 = 0.15;
+
+/// How far, as a fraction of [`VOTE_CONSISTENCY_RADIUS`], the distance between two matches may
+/// be from the distance between the partial points they match, for the pair to agree.
+pub const VOTE_CONSISTENCY_TOLERANCE: f64 = 0.25;
+
+/// Power of the consistency in a vote's weight ([`descriptor_matches`]).
+pub const VOTE_CONSISTENCY_EXPONENT: i32 = 2;
+
+/// Descriptors at points: one SHOT row per position, in the full shape's units (of unit area).
+#[derive(Debug, Clone, Copy)]
+pub struct Described<'a> {
+    /// One descriptor per row.
+    pub descriptors: &'a faer::Mat<f64>,
+    /// Where each row was described.
+    pub positions: &'a [[f64; 3]],
+}
+
 /// Starts from descriptor correspondences, for partials no ball or plane resembles (a whole
 /// body with holes): with $D_M(i)$ the full shape's SHOT descriptors and $D_N(j)$ a sample
 /// of the partial's, $d_1(j) \le d_2(j)$ the distances from $D_N(j)$ to its nearest and
@@ -160,22 +181,31 @@ pub fn descriptor_starts(matches: &DescriptorMatches, neighbors: &[Vec<u32>], ma
 pub struct DescriptorMatches {
     /// $-\min_j \lVert D_M(i) - D_N(j)\rVert$ over the sampled partial vertices $j$.
     pub fit: Vec<f64>,
-    /// $\sum_j (1 - d_1(j)/d_2(j))$ over the sampled partial vertices $j$ whose nearest
-    /// full-shape descriptor is $D_M(i)$ (Lowe's ratio; a tie counts 0).
+    /// $\sum_j (1 - d_1(j)/d_2(j))\,c_j^2$ over the sampled partial vertices $j$ whose
+    /// nearest full-shape descriptor is $D_M(i)$ (Lowe's ratio, a tie counting 0, times the
+    /// match's local consistency $c_j$, [`vote_consistency`]).
     pub votes: Vec<f64>,
 }
 
-/// The [`DescriptorMatches`] of the partial's descriptors (rows of `partial_descriptors`,
-/// every `ceil(n / DESCRIPTOR_START_SAMPLES)`-th) on the full shape's (rows of
-/// `full_descriptors`); `None` for no descriptor or mismatched dimensions. The nearest and
+/// The [`DescriptorMatches`] of the partial's descriptors (every
+/// `ceil(n / DESCRIPTOR_START_SAMPLES)`-th row of `partial`) on the full shape's; `None` for
+/// no descriptor, mismatched dimensions, or a position missing. Each sampled partial point
+/// $j$ is matched to the full-shape vertex of its nearest descriptor, and votes for it with
+/// Lowe's ratio weight times the square of the match's local consistency
+/// ([`vote_consistency`]: whether the matches of the partial points around $j$ lie as far
+/// from $j$'s match as those points lie from $j$). The nearest and
 /// second-nearest rows are found from single-precision distances (by blocks of full-shape
 /// rows: memory bounded for any resolution), and the distances they give are those rows'
 /// distances in double precision: only rows within single precision's rounding of each other
 /// can be ordered differently than in double precision, at half the cost of the products.
-pub fn descriptor_matches(full_descriptors: &faer::Mat<f64>, partial_descriptors: &faer::Mat<f64>) -> Option<DescriptorMatches> {
+pub fn descriptor_matches(full: Described<'_>, partial: Described<'_>) -> Option<DescriptorMatches> {
     use crate::alignment::scale::SingleRows;
+    let (full_descriptors, partial_descriptors, full_positions) = (full.descriptors, partial.descriptors, full.positions);
     let (n, d) = (full_descriptors.nrows(), full_descriptors.ncols());
     if n == 0 || partial_descriptors.nrows() == 0 || partial_descriptors.ncols() != d {
+        return None;
+    }
+    if full_positions.len() != n || partial.positions.len() != partial_descriptors.nrows() {
         return None;
     }
     let step = partial_descriptors.nrows().div_ceil(DESCRIPTOR_START_SAMPLES).max(1);
@@ -229,15 +259,55 @@ pub fn descriptor_matches(full_descriptors: &faer::Mat<f64>, partial_descriptors
     };
     let fit: Vec<f64> = own.iter().enumerate().map(|(r, &j)| -distance(r, j)).collect();
     let mut votes = vec![0.0; n];
+    let mut matched = Vec::with_capacity(nearest.len());
     for (j, m) in nearest.iter().enumerate() {
         let d1 = distance(m.v1, j);
         // A single full row has no second nearest (d2 = inf): a vote of 1, as before.
         let d2 = if m.d2.is_finite() { distance(m.v2, j) } else { f64::INFINITY };
         let (vertex, d1, d2) = if d2 < d1 { (m.v2, d2, d1) } else { (m.v1, d1, d2) };
         // A tie (d1 = d2) is no evidence; d2 = 0 only if both are 0.
-        votes[vertex] += if d2 > 0.0 { 1.0 - d1 / d2 } else { 0.0 };
+        matched.push((vertex, if d2 > 0.0 { 1.0 - d1 / d2 } else { 0.0 }));
+    }
+    let at: Vec<[f64; 3]> = sample.iter().map(|&r| partial.positions[r]).collect();
+    let consistency = vote_consistency(&at, full_positions, &matched);
+    for (&(vertex, w), c) in matched.iter().zip(consistency) {
+        votes[vertex] += w * c.powi(VOTE_CONSISTENCY_EXPONENT);
     }
     Some(DescriptorMatches { fit, votes })
+}
+
+/// Each match's local consistency $c_j$ ([`descriptor_matches`]): `at[j]` is the partial
+/// point of match `j` and `matched[j]` its full-shape vertex (an index into `full`) and Lowe
+/// weight $w_j$. With $e_{jk}$ the distance between partial points $j$ and $k$ and $f_{jk}$
+/// between their matches,
+/// $$c_j = \frac{\sum_{k \in B_j} w_k\,[\,|f_{jk} - e_{jk}| \le \epsilon r\,]}{\sum_{k \in B_j} w_k},$$
+/// $B_j$ the other points within $r$ = [`VOTE_CONSISTENCY_RADIUS`] of $j$ and $\epsilon$ =
+/// [`VOTE_CONSISTENCY_TOLERANCE`] (0 for a point without weighted neighbours). Euclidean
+/// distances within a part barely change as a body bends, so right matches keep them, and a
+/// wrong match, placed elsewhere by a look-alike, does not.
+fn vote_consistency(at: &[[f64; 3]], full: &[[f64; 3]], matched: &[(usize, f64)]) -> Vec<f64> {
+    use rayon::prelude::*;
+    let distance = |a: [f64; 3], b: [f64; 3]| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
+    let tolerance = VOTE_CONSISTENCY_TOLERANCE * VOTE_CONSISTENCY_RADIUS;
+    (0..at.len())
+        .into_par_iter()
+        .map(|j| {
+            let (mut agree, mut all) = (0.0, 0.0);
+            for k in (0..at.len()).filter(|&k| k != j) {
+                let e = distance(at[j], at[k]);
+                if e > VOTE_CONSISTENCY_RADIUS {
+                    continue;
+                }
+                let f = distance(full[matched[j].0], full[matched[k].0]);
+                let w = matched[k].1;
+                all += w;
+                if (f - e).abs() <= tolerance {
+                    agree += w;
+                }
+            }
+            if all > 0.0 { agree / all } else { 0.0 }
+        })
+        .collect()
 }
 
 /// The nearest and second-nearest squared distances seen so far and their vertices.
@@ -282,6 +352,55 @@ mod tests {
         z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
         z ^ (z >> 31)
     }
+    fn described<'a>(descriptors: &'a faer::Mat<f64>, positions: &'a [[f64; 3]]) -> Described<'a> {
+        Described { descriptors, positions }
+    }
+
+    /// A vote counts by its match's consistency: a patch of a grid matched in place, with
+    /// every 10th of its points matched to a look-alike far away instead. The right matches
+    /// keep their neighbours' distances (consistency near 1), the wrong ones do not (near
+    /// 0), so the far place gets almost no votes; moving and turning the partial changes
+    /// nothing.
+    #[test]
+    fn a_match_that_does_not_keep_its_neighbours_distances_votes_little() {
+        let mesh = crate::mesh::generate::grid(1.0, 1.0, 39, 39);
+        let points = mesh.vertices();
+        let d = 16;
+        let mut state = 5;
+        let mut full = faer::Mat::<f64>::from_fn(points.len(), d, |_, _| (splitmix64(&mut state) >> 11) as f64 / (1u64 << 53) as f64);
+        let patch: Vec<usize> = (0..points.len()).filter(|&i| points[i][0] < 0.4 && points[i][1] < 0.4).collect();
+        // Far look-alikes: the wrong matches' targets, near (0.9, 0.9), carry their descriptors.
+        let far: Vec<usize> = (0..points.len()).filter(|&i| points[i][0] > 0.8 && points[i][1] > 0.8).collect();
+        let wrong: Vec<(usize, usize)> = patch.iter().step_by(10).zip(far.iter().step_by(3)).map(|(&p, &f)| (p, f)).collect();
+        for &(p, f) in &wrong {
+            for c in 0..d {
+                full[(f, c)] = full[(p, c)];
+            }
+            // The patch's own vertex differs a little, so the far copy is the nearest.
+            full[(p, 0)] += 0.3;
+        }
+        let partial = faer::Mat::<f64>::from_fn(patch.len(), d, |i, c| {
+            let v = patch[i];
+            match wrong.iter().find(|&&(p, _)| p == v) {
+                Some(&(_, f)) => full[(f, c)],
+                None => full[(v, c)],
+            }
+        });
+        let at: Vec<[f64; 3]> = patch.iter().map(|&i| points[i]).collect();
+        let matches = descriptor_matches(described(&full, points), described(&partial, &at)).unwrap();
+        let inside: f64 = patch.iter().map(|&i| matches.votes[i]).sum();
+        let outside: f64 = far.iter().map(|&i| matches.votes[i]).sum();
+        assert!(inside > 0.5 * (patch.len() - wrong.len()) as f64, "the right matches vote: {inside}");
+        assert!(outside < 0.02 * inside, "the look-alikes get little: {outside} against {inside}");
+        // Rigid motions of the partial keep every distance: the same votes.
+        let (c, s) = (0.6f64, 0.8f64);
+        let moved: Vec<[f64; 3]> = at.iter().map(|p| [c * p[0] - s * p[2] + 3.0, p[1] - 1.0, s * p[0] + c * p[2]]).collect();
+        let again = descriptor_matches(described(&full, points), described(&partial, &moved)).unwrap();
+        for (a, b) in again.votes.iter().zip(&matches.votes) {
+            assert!((a - b).abs() < 1e-9);
+        }
+    }
+
     /// The matches found in single precision are the double-precision nearest rows' (to
     /// within single precision's rounding of the distances), with their double-precision
     /// distances: fit and votes against a brute-force double-precision reference on unit
@@ -308,7 +427,9 @@ mod tests {
             full[(290, c)] = full[(5, c)];
             partial[(0, c)] = full[(5, c)];
         }
-        let matches = descriptor_matches(&full, &partial).unwrap();
+        // Every point at the origin: every pair of matches agrees, so each vote is Lowe's weight.
+        let (at_full, at_partial) = (vec![[0.0; 3]; n], vec![[0.0; 3]; m]);
+        let matches = descriptor_matches(described(&full, &at_full), described(&partial, &at_partial)).unwrap();
         let dist = |i: usize, j: usize| (0..d).map(|c| (full[(i, c)] - partial[(j, c)]).powi(2)).sum::<f64>().sqrt();
         for i in 0..n {
             let best = (0..m).map(|j| dist(i, j)).fold(f64::INFINITY, f64::min);
@@ -348,7 +469,8 @@ mod tests {
             let rows: Vec<usize> = (0..points.len()).filter(|&i| truth[i]).collect();
             let partial = faer::Mat::<f64>::from_fn(rows.len(), d, |i, c| full[(rows[i], c)]);
             let area: f64 = rows.iter().map(|&i| mass[i]).sum();
-            let matches = descriptor_matches(&full, &partial).unwrap();
+            let at: Vec<[f64; 3]> = rows.iter().map(|&i| points[i]).collect();
+            let matches = descriptor_matches(described(&full, points), described(&partial, &at)).unwrap();
             let starts = descriptor_starts(&matches, &neighbors, mass, area);
             assert_eq!(starts.iter().map(|s| s.label.as_str()).collect::<Vec<_>>(), ["descriptor-fit", "descriptor-vote"]);
             for s in &starts {
@@ -359,14 +481,16 @@ mod tests {
                 assert!((well_area(&s.w0, mass) - area).abs() < 0.02 * area + 0.01, "{}: area", s.label);
             }
             // Deterministic.
-            let again = descriptor_starts(&descriptor_matches(&full, &partial).unwrap(), &neighbors, mass, area);
+            let again = descriptor_starts(&descriptor_matches(described(&full, points), described(&partial, &at)).unwrap(), &neighbors, mass, area);
             assert!(starts.iter().zip(&again).all(|(a, b)| a.w0 == b.w0));
         }
         // Mismatched dimensions or empty input give no start, not a panic.
         let other = faer::Mat::<f64>::zeros(5, d + 1);
-        assert!(descriptor_matches(&full, &other).is_none());
-        assert!(descriptor_matches(&full, &faer::Mat::<f64>::zeros(0, d)).is_none());
-        let matches = descriptor_matches(&full, &full).unwrap();
+        let nowhere = vec![[0.0; 3]; 5];
+        assert!(descriptor_matches(described(&full, points), described(&other, &nowhere)).is_none());
+        assert!(descriptor_matches(described(&full, points), described(&faer::Mat::<f64>::zeros(0, d), &[])).is_none());
+        assert!(descriptor_matches(described(&full, &points[1..]), described(&full, points)).is_none(), "a position missing");
+        let matches = descriptor_matches(described(&full, points), described(&full, points)).unwrap();
         assert!(descriptor_starts(&matches, &neighbors[1..], mass, 0.1).is_empty());
     }
 

@@ -203,6 +203,15 @@ pub struct SampledShot {
     /// For each vertex of the mesh, the row of its nearest sampled vertex (Euclidean; a
     /// sampled vertex is its own row).
     pub row_of_vertex: Vec<u32>,
+    /// The vertex each row describes.
+    pub samples: Vec<u32>,
+}
+
+impl SampledShot {
+    /// Where each row was described: the positions of its vertex in `mesh` (the mesh described).
+    pub fn positions(&self, mesh: &TriMesh) -> Vec<[f64; 3]> {
+        self.samples.iter().map(|&i| mesh.vertices()[i as usize]).collect()
+    }
 }
 
 /// SHOT of every `ceil(n / max_samples)`-th vertex of `mesh` (every vertex when it has at
@@ -215,7 +224,7 @@ pub fn sampled_shot(mesh: &TriMesh, max_samples: usize, radius: f64, min_neighbo
     let samples: Vec<u32> = (0..n as u32).step_by(step).collect();
     let descriptors = shot_keypoint_descriptors(mesh, &samples, radius, min_neighbors)?;
     let row_of_vertex = if step == 1 {
-        samples
+        samples.clone()
     } else {
         let at: Vec<[f64; 3]> = samples.iter().map(|&i| mesh.vertices()[i as usize]).collect();
         let mut rows = crate::mesh::nearest::nearest_vertices(&at, mesh.vertices())?;
@@ -225,7 +234,7 @@ pub fn sampled_shot(mesh: &TriMesh, max_samples: usize, radius: f64, min_neighbo
         }
         rows
     };
-    Ok(SampledShot { descriptors, row_of_vertex })
+    Ok(SampledShot { descriptors, row_of_vertex, samples })
 }
 
 fn check_radius(radius: f64) -> Result<()> {

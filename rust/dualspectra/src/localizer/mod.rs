@@ -151,13 +151,8 @@ impl Localizer {
         stages::locate(self, &SharedPartial::new(partial), initial_regions, Effort::of(&self.options), progress)
     }
 
-    /// [`Localizer::locate`] with at most `effort`'s iterations and plane-cut starts: the
-    /// quick localizations that rank a search's shortlist.
-    pub(crate) fn locate_with_effort(&self, partial: &TriMesh, effort: Effort, progress: &Progress) -> Result<Localization> {
-        stages::locate(self, &SharedPartial::new(partial), &[], effort, progress)
-    }
-
-    /// [`Localizer::locate_with_effort`] of a partial other localizations share (a search's):
+    /// [`Localizer::locate`] with at most `effort`'s iterations and plane-cut starts, of a
+    /// partial other localizations share (a search's):
     /// what they all need of it alone is prepared once ([`SharedPartial`]).
     pub(crate) fn locate_shared(&self, partial: &SharedPartial<'_>, effort: Effort, progress: &Progress) -> Result<Localization> {
         stages::locate(self, partial, &[], effort, progress)

@@ -394,7 +394,7 @@ fn target_on_its_mesh(loc: &Localizer, partial: &SharedPartial<'_>, effort: Effo
 /// ([`ScaleScan`]: the partial's descriptors under each area hypothesis), made by the first
 /// localization that needs them and reused by the others.
 pub(crate) struct SharedPartial<'a> {
-    mesh: &'a TriMesh,
+    mesh: std::borrow::Cow<'a, TriMesh>,
     auto: std::sync::OnceLock<AutoPartial>,
 }
 
@@ -410,7 +410,17 @@ struct AutoPartial {
 impl<'a> SharedPartial<'a> {
     /// `mesh`, nothing prepared yet.
     pub(crate) fn new(mesh: &'a TriMesh) -> Self {
-        SharedPartial { mesh, auto: std::sync::OnceLock::new() }
+        SharedPartial { mesh: std::borrow::Cow::Borrowed(mesh), auto: std::sync::OnceLock::new() }
+    }
+
+    /// `mesh`, kept: nothing prepared yet.
+    pub(crate) fn owning(mesh: TriMesh) -> SharedPartial<'static> {
+        SharedPartial { mesh: std::borrow::Cow::Owned(mesh), auto: std::sync::OnceLock::new() }
+    }
+
+    /// The partial as given.
+    pub(crate) fn mesh(&self) -> &TriMesh {
+        &self.mesh
     }
 
     /// The `scale = auto` preparation, made on first use.
@@ -418,7 +428,7 @@ impl<'a> SharedPartial<'a> {
         if let Some(a) = self.auto.get() {
             return Ok(a);
         }
-        let (component, warnings) = largest_component_noted(self.mesh)?;
+        let (component, warnings) = largest_component_noted(&self.mesh)?;
         let area = component.area();
         if !(area > 0.0 && area.is_finite()) {
             return Err(Error::InvalidArgument("scale = auto: the partial has no area to estimate the scale from".into()));
@@ -470,7 +480,7 @@ pub(super) fn partial_in_full_units(loc: &Localizer, partial: &SharedPartial<'_>
             return Ok((scaled, auto.unit * s / loc.scale, auto.warnings.clone()));
         }
     };
-    let (component, warnings) = largest_component_noted(partial.mesh)?;
+    let (component, warnings) = largest_component_noted(&partial.mesh)?;
     let scaled = decimated(component.map_positions(|p| p.map(|c| c * loc.scale * given_factor))?);
     Ok((scaled, given_factor, warnings))
 }
@@ -515,7 +525,9 @@ fn target(loc: &Localizer, partial: &SharedPartial<'_>, effort: Effort, progress
         },
         || {
             let descriptors = shot::sampled_shot(shape.mesh(), starts::DESCRIPTOR_START_SAMPLES, shot::DEFAULT_RADIUS_FRACTION, shot::DEFAULT_MIN_NEIGHBORS)?;
-            let matches = starts::descriptor_matches(&level.coarse_descriptors, &descriptors.descriptors);
+            let full = starts::Described { descriptors: &level.coarse_descriptors, positions: level.coarse.mesh().vertices() };
+            let positions = descriptors.positions(shape.mesh());
+            let matches = starts::descriptor_matches(full, starts::Described { descriptors: &descriptors.descriptors, positions: &positions });
             Ok::<_, Error>((descriptors, matches))
         },
     );

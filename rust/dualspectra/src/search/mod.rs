@@ -258,11 +258,38 @@ pub fn in_two_stages(shortlist: usize, library: usize) -> bool {
     shortlist > REFINED_SHAPES && shortlist < library
 }
 
-/// A two-stage search's quick localization of `partial` on `shape` ([`Match::quick`]: fewer
-/// starts, iterations and eigenvalues than the localizer's options), which ranks the shortlist: for front
-/// ends that run the stages themselves (a batch of searches split per full shape).
-pub fn locate_quick(shape: &Localizer, partial: &TriMesh, progress: &Progress) -> Result<Localization> {
-    shape.locate_with_effort(partial, RANKING_EFFORT, progress)
+/// A partial shape prepared to be located on several full shapes, for front ends that run a
+/// search's localizations themselves (a batch of searches split per full shape): what every
+/// one of them needs of the partial alone (with `scale = auto`, its descriptors under each
+/// area hypothesis of the scale estimate) is computed by the first that needs it and kept, as
+/// a search keeps it for its own localizations.
+pub struct PreparedPartial(SharedPartial<'static>);
+
+impl PreparedPartial {
+    /// `partial`, nothing computed yet.
+    pub fn new(partial: TriMesh) -> Self {
+        PreparedPartial(SharedPartial::owning(partial))
+    }
+
+    /// The partial as given.
+    pub fn mesh(&self) -> &TriMesh {
+        self.0.mesh()
+    }
+}
+
+impl std::fmt::Debug for PreparedPartial {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("PreparedPartial").field("vertices", &self.mesh().n_vertices()).finish_non_exhaustive()
+    }
+}
+
+/// `partial` located on `shape` as a search locates it: with `quick`, the two-stage search's
+/// quick localization that ranks the shortlist ([`Match::quick`]: fewer starts, iterations and
+/// eigenvalues than the localizer's options), otherwise [`Localizer::locate`]'s. The same
+/// result as locating the partial's mesh afresh.
+pub fn locate_prepared(shape: &Localizer, partial: &PreparedPartial, quick: bool, progress: &Progress) -> Result<Localization> {
+    let effort = if quick { RANKING_EFFORT } else { Effort::of(shape.options()) };
+    shape.locate_shared(&partial.0, effort, progress)
 }
 
 /// The full shapes a two-stage search localizes again in full, from the quick ranking's
