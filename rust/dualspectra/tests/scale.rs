@@ -32,9 +32,13 @@ fn a_partial_in_other_units_gives_the_region_it_gives_as_given() {
         let iou = scores(&loc.region, &pair.gt).unwrap().iou;
         let agreement = scores(&loc.region, &same.region).unwrap().iou;
         assert!((loc.scale * factor - 1.0).abs() < 0.05, "x{factor}: estimated factor {}", loc.scale);
-        // An estimate a few percent off moves the region's edge by about a ring: the region is
-        // as good as the as-given one and mostly the same.
-        assert!(iou > truth - 0.05 && agreement > 0.8, "x{factor}: IoU {iou} (as given {truth}), with the as-given region {agreement}");
+        // `auto` is the estimate and nothing else: the region the estimated factor gives.
+        let at_estimate = Localizer::new(&pair.full, &light(Scale::Factor(loc.scale))).unwrap();
+        assert_eq!(at_estimate.locate(&scaled(&pair.partial, factor), &Progress::none()).unwrap().region, loc.region, "x{factor}");
+        // An estimate a few percent off (here 1.6 % small) gives a partial of a few percent less
+        // area, which moves the region's edge and can change the start chosen on this small
+        // shape: the region is good and mostly the as-given one.
+        assert!(iou > 0.8 && iou > truth - 0.1 && agreement > 0.8, "x{factor}: IoU {iou} (as given {truth}), with the as-given region {agreement}");
         println!("x{factor}: factor error {:.4}, IoU {iou:.3} (as given {truth:.3}), agreement {agreement:.3}", loc.scale * factor);
     }
     // A given factor undoes the units exactly.

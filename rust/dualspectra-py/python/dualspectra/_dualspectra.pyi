@@ -17,6 +17,7 @@ __all__ = [
     "Candidate",
     "Localization",
     "Localizer",
+    "PreparedPartial",
     "Match",
     "Screen",
     "localize",

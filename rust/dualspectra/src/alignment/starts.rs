@@ -144,7 +144,8 @@ pub struct Described<'a> {
 ///   votes for its nearest full-shape vertex with weight $1 - d_1(j)/d_2(j)$, Lowe's ratio
 ///   test (Lowe 2004, "Distinctive image features from scale-invariant keypoints"): a
 ///   vertex whose descriptor many full-shape vertices share nearly as well (a flat or
-///   symmetric stretch) votes little;
+///   symmetric stretch) votes little; times the square of the match's local consistency
+///   ([`vote_consistency`]): a match its neighbours' matches do not bear out votes little;
 ///
 /// each averaged over one-rings [`DESCRIPTOR_START_SMOOTHING`] times, then the partial's area
 /// of the best vertices taken as a step start ([`mask_start`]). docs/algorithm.md ("Starts");
