@@ -194,7 +194,8 @@ pub struct DescriptorMatches {
 /// $j$ is matched to the full-shape vertex of its nearest descriptor, and votes for it with
 /// Lowe's ratio weight times the square of the match's local consistency
 /// ([`vote_consistency`]: whether the matches of the partial points around $j$ lie as far
-/// from $j$'s match as those points lie from $j$). The nearest and
+/// from $j$'s match as those points lie from $j$; Lowe's weight alone when no match is borne
+/// out, as for a partial too coarse for the radius). The nearest and
 /// second-nearest rows are found from single-precision distances (by blocks of full-shape
 /// rows: memory bounded for any resolution), and the distances they give are those rows'
 /// distances in double precision: only rows within single precision's rounding of each other
@@ -270,7 +271,12 @@ pub fn descriptor_matches(full: Described<'_>, partial: Described<'_>) -> Option
         matched.push((vertex, if d2 > 0.0 { 1.0 - d1 / d2 } else { 0.0 }));
     }
     let at: Vec<[f64; 3]> = sample.iter().map(|&r| partial.positions[r]).collect();
-    let consistency = vote_consistency(&at, full_positions, &matched);
+    let mut consistency = vote_consistency(&at, full_positions, &matched);
+    if consistency.iter().all(|&c| c == 0.0) {
+        // No match has a neighbour that bears it out (a partial too coarse or too small for
+        // the radius): Lowe's weights alone, rather than no vote at all.
+        consistency.fill(1.0);
+    }
     for (&(vertex, w), c) in matched.iter().zip(consistency) {
         votes[vertex] += w * c.powi(VOTE_CONSISTENCY_EXPONENT);
     }
@@ -400,6 +406,13 @@ mod tests {
         for (a, b) in again.votes.iter().zip(&matches.votes) {
             assert!((a - b).abs() < 1e-9);
         }
+        // Points farther apart than the radius have no neighbour to bear them out: Lowe's
+        // weights alone (as if every pair agreed), not no vote at all.
+        let apart: Vec<[f64; 3]> = (0..patch.len()).map(|i| [i as f64, 0.0, 0.0]).collect();
+        let lone = descriptor_matches(described(&full, points), described(&partial, &apart)).unwrap();
+        let together = descriptor_matches(described(&full, &vec![[0.0; 3]; points.len()]), described(&partial, &vec![[0.0; 3]; patch.len()])).unwrap();
+        assert!(lone.votes.iter().sum::<f64>() > 0.0);
+        assert_eq!(lone.votes, together.votes);
     }
 
     /// The matches found in single precision are the double-precision nearest rows' (to
