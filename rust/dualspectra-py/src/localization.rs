@@ -284,7 +284,12 @@ impl Localizer {
 
     /// The notes every result on this shape starts with, then `partial`'s intake note.
     pub(crate) fn notes_for(&self, partial: &MeshIntake) -> Vec<String> {
-        self.note.iter().cloned().chain(partial.warning("partial mesh")).collect()
+        self.notes_with(partial.warning("partial mesh"))
+    }
+
+    /// The notes every result on this shape starts with, then the partial's intake note.
+    fn notes_with(&self, partial_note: Option<String>) -> Vec<String> {
+        self.note.iter().cloned().chain(partial_note).collect()
     }
 
     /// The partial `(vertices, faces)` taken in and located by `how` (with `progress`, the GIL
@@ -401,7 +406,7 @@ impl Localizer {
     fn locate_prepared(&self, py: Python<'_>, partial: &PreparedPartial, quick: bool, progress: Option<Py<PyAny>>) -> PyResult<Localization> {
         check_callable(py, &progress)?;
         let r = with_progress(py, progress, |p| dualspectra::search::locate_prepared(&self.inner, &partial.inner, quick, p))?;
-        Localization::new(py, r, &self.host, self.note.iter().cloned().chain(partial.note.clone()).collect())
+        Localization::new(py, r, &self.host, self.notes_with(partial.note.clone()))
     }
 
     /// Vertices of the caller's full mesh (the length of every per-vertex result).

@@ -293,8 +293,8 @@ pub fn descriptor_matches(full: Described<'_>, partial: Described<'_>) -> Option
 /// distances within a part barely change as a body bends, so right matches keep them, and a
 /// wrong match, placed elsewhere by a look-alike, does not.
 fn vote_consistency(at: &[[f64; 3]], full: &[[f64; 3]], matched: &[(usize, f64)]) -> Vec<f64> {
+    use crate::mesh::distance;
     use rayon::prelude::*;
-    let distance = |a: [f64; 3], b: [f64; 3]| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
     let tolerance = VOTE_CONSISTENCY_TOLERANCE * VOTE_CONSISTENCY_RADIUS;
     (0..at.len())
         .into_par_iter()
