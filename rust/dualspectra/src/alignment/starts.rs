@@ -124,6 +124,12 @@ pub const VOTE_CONSISTENCY_TOLERANCE: f64 = 0.25;
 /// Power of the consistency in a vote's weight ([`descriptor_matches`]).
 pub const VOTE_CONSISTENCY_EXPONENT: i32 = 2;
 
+/// Passes of [`vote_consistency`]: after the first, each neighbour counts with its Lowe
+/// weight times its own consistency of the pass before, so wrong matches around a right one
+/// no longer dilute it, nor bear out one another. docs/benchmarks/options.md ("Consistent
+/// votes").
+pub const VOTE_CONSISTENCY_ROUNDS: usize = 2;
+
 /// Descriptors at points: one SHOT row per position, in the full shape's units (of unit area).
 #[derive(Debug, Clone, Copy)]
 pub struct Described<'a> {
@@ -193,9 +199,10 @@ pub struct DescriptorMatches {
 /// no descriptor, mismatched dimensions, or a position missing. Each sampled partial point
 /// $j$ is matched to the full-shape vertex of its nearest descriptor, and votes for it with
 /// Lowe's ratio weight times the square of the match's local consistency
-/// ([`vote_consistency`]: whether the matches of the partial points around $j$ lie as far
-/// from $j$'s match as those points lie from $j$; Lowe's weight alone when no match is borne
-/// out, as for a partial too coarse for the radius). The nearest and
+/// ([`vote_consistency`]: whether the matches of the partial points around $j$, weighted by
+/// their own consistency, lie as far from $j$'s match as those points lie from $j$; Lowe's
+/// weight alone when no match is borne out, as for a partial too coarse for the radius). The
+/// nearest and
 /// second-nearest rows are found from single-precision distances (by blocks of full-shape
 /// rows: memory bounded for any resolution), and the distances they give are those rows'
 /// distances in double precision: only rows within single precision's rounding of each other
@@ -271,7 +278,7 @@ pub fn descriptor_matches(full: Described<'_>, partial: Described<'_>) -> Option
         matched.push((vertex, if d2 > 0.0 { 1.0 - d1 / d2 } else { 0.0 }));
     }
     let at: Vec<[f64; 3]> = sample.iter().map(|&r| partial.positions[r]).collect();
-    let mut consistency = vote_consistency(&at, full_positions, &matched);
+    let mut consistency = vote_consistency(&at, full_positions, &matched, VOTE_CONSISTENCY_ROUNDS);
     if consistency.iter().all(|&c| c == 0.0) {
         // No match has a neighbour that bears it out (a partial too coarse or too small for
         // the radius): Lowe's weights alone, rather than no vote at all.
@@ -283,38 +290,47 @@ pub fn descriptor_matches(full: Described<'_>, partial: Described<'_>) -> Option
     Some(DescriptorMatches { fit, votes })
 }
 
-/// Each match's local consistency $c_j$ ([`descriptor_matches`]): `at[j]` is the partial
-/// point of match `j` and `matched[j]` its full-shape vertex (an index into `full`) and Lowe
-/// weight $w_j$. With $e_{jk}$ the distance between partial points $j$ and $k$ and $f_{jk}$
-/// between their matches,
-/// $$c_j = \frac{\sum_{k \in B_j} w_k\,[\,|f_{jk} - e_{jk}| \le \epsilon r\,]}{\sum_{k \in B_j} w_k},$$
+/// Each match's local consistency $c_j$ ([`descriptor_matches`]) after `rounds` passes:
+/// `at[j]` is the partial point of match `j` and `matched[j]` its full-shape vertex (an index
+/// into `full`) and Lowe weight $w_j$. With $e_{jk}$ the distance between partial points $j$
+/// and $k$ and $f_{jk}$ between their matches,
+/// $$c^{(t+1)}_j = \frac{\sum_{k \in B_j} w_k\,c^{(t)}_k\,[\,|f_{jk} - e_{jk}| \le \epsilon r\,]}{\sum_{k \in B_j} w_k\,c^{(t)}_k},\qquad c^{(0)} = 1,$$
 /// $B_j$ the other points within $r$ = [`VOTE_CONSISTENCY_RADIUS`] of $j$ and $\epsilon$ =
 /// [`VOTE_CONSISTENCY_TOLERANCE`] (0 for a point without weighted neighbours). Euclidean
 /// distances within a part barely change as a body bends, so right matches keep them, and a
-/// wrong match, placed elsewhere by a look-alike, does not.
-fn vote_consistency(at: &[[f64; 3]], full: &[[f64; 3]], matched: &[(usize, f64)]) -> Vec<f64> {
+/// wrong match, placed elsewhere by a look-alike, does not; from the second pass on, the
+/// neighbours that count are those borne out themselves. A pass in which no match is borne
+/// out ends the passes (its predecessor is returned).
+fn vote_consistency(at: &[[f64; 3]], full: &[[f64; 3]], matched: &[(usize, f64)], rounds: usize) -> Vec<f64> {
     use crate::mesh::distance;
     use rayon::prelude::*;
     let tolerance = VOTE_CONSISTENCY_TOLERANCE * VOTE_CONSISTENCY_RADIUS;
-    (0..at.len())
-        .into_par_iter()
-        .map(|j| {
-            let (mut agree, mut all) = (0.0, 0.0);
-            for k in (0..at.len()).filter(|&k| k != j) {
-                let e = distance(at[j], at[k]);
-                if e > VOTE_CONSISTENCY_RADIUS {
-                    continue;
+    let mut consistency = vec![1.0; at.len()];
+    for round in 0..rounds.max(1) {
+        let next: Vec<f64> = (0..at.len())
+            .into_par_iter()
+            .map(|j| {
+                let (mut agree, mut all) = (0.0, 0.0);
+                for k in (0..at.len()).filter(|&k| k != j) {
+                    let e = distance(at[j], at[k]);
+                    if e > VOTE_CONSISTENCY_RADIUS {
+                        continue;
+                    }
+                    let w = matched[k].1 * consistency[k];
+                    all += w;
+                    if (distance(full[matched[j].0], full[matched[k].0]) - e).abs() <= tolerance {
+                        agree += w;
+                    }
                 }
-                let f = distance(full[matched[j].0], full[matched[k].0]);
-                let w = matched[k].1;
-                all += w;
-                if (f - e).abs() <= tolerance {
-                    agree += w;
-                }
-            }
-            if all > 0.0 { agree / all } else { 0.0 }
-        })
-        .collect()
+                if all > 0.0 { agree / all } else { 0.0 }
+            })
+            .collect();
+        if round > 0 && next.iter().all(|&c| c == 0.0) {
+            break;
+        }
+        consistency = next;
+    }
+    consistency
 }
 
 /// The nearest and second-nearest squared distances seen so far and their vertices.
@@ -413,6 +429,39 @@ mod tests {
         let together = descriptor_matches(described(&full, &vec![[0.0; 3]; points.len()]), described(&partial, &vec![[0.0; 3]; patch.len()])).unwrap();
         assert!(lone.votes.iter().sum::<f64>() > 0.0);
         assert_eq!(lone.votes, together.votes);
+    }
+
+    /// The second pass of the consistency counts only neighbours that are borne out
+    /// themselves: with 40 % of the matches sent to random places, the right ones' consistency
+    /// rises from about the share of right neighbours to near 1, and the wrong ones' stays low.
+    #[test]
+    fn consistency_counts_the_neighbours_that_are_borne_out() {
+        let mesh = crate::mesh::generate::grid(0.5, 0.5, 29, 29);
+        let at = mesh.vertices().to_vec();
+        // The full shape: the patch itself (right matches keep every distance) and a far
+        // square the wrong matches land in at random.
+        let mut full = at.clone();
+        let mut state = 17;
+        let mut uniform = || (splitmix64(&mut state) >> 11) as f64 / (1u64 << 53) as f64;
+        let far_start = full.len();
+        full.extend((0..400).map(|_| [5.0 + uniform(), 5.0 + uniform(), 0.0]));
+        let wrong: Vec<bool> = (0..at.len()).map(|_| uniform() < 0.4).collect();
+        let matched: Vec<(usize, f64)> = (0..at.len())
+            .map(|j| (if wrong[j] { far_start + (uniform() * 400.0) as usize % 400 } else { j }, 0.5 + 0.5 * uniform()))
+            .collect();
+        let mean = |c: &[f64], of_wrong: bool| {
+            let picked: Vec<f64> = c.iter().zip(&wrong).filter(|(_, &w)| w == of_wrong).map(|(&c, _)| c).collect();
+            picked.iter().sum::<f64>() / picked.len() as f64
+        };
+        let once = vote_consistency(&at, &full, &matched, 1);
+        let twice = vote_consistency(&at, &full, &matched, 2);
+        assert!(mean(&once, false) < 0.7, "one pass: right matches diluted by the wrong ({})", mean(&once, false));
+        assert!(mean(&twice, false) > 0.95, "two passes: right matches borne out ({})", mean(&twice, false));
+        assert!(mean(&twice, true) < 0.1, "two passes: wrong matches not ({})", mean(&twice, true));
+        assert!(mean(&twice, true) <= mean(&once, true));
+        // Rounds past a pass that bears nothing out return that pass's predecessor.
+        let apart: Vec<[f64; 3]> = (0..at.len()).map(|i| [i as f64, 0.0, 0.0]).collect();
+        assert!(vote_consistency(&apart, &full, &matched, 2).iter().all(|&c| c == 0.0));
     }
 
     /// The matches found in single precision are the double-precision nearest rows' (to
