@@ -94,11 +94,10 @@ fn eigenvalues_scale_with_the_mesh_sparse_path() {
     eigenvalues_scale_with_the_mesh(&bumpy_sphere(3));
 }
 
-/// The dense path of small pencils (n = 162 < 200). Fails today: at c = 1e8 and 1e-8 (and
-/// 1e-4) the dense path reports `converged: false` (max_residual 0.85 at 1e8) and at 1e-8 the
-/// third eigenvalue is off by 9e-5 relative; the sparse path above is scale-invariant.
+/// The dense path of small pencils (n = 162 < 200): its matrix is scaled to unit size before
+/// the decomposition, whose deflation tests are partly absolute (unscaled, it reported
+/// `converged: false` at c = 1e8 and a third eigenvalue off by 9e-5 at c = 1e-8).
 #[test]
-#[ignore = "core defect: the dense eigensolver path (n < 200) is not scale-invariant (see doc comment)"]
 fn eigenvalues_scale_with_the_mesh_dense_path() {
     eigenvalues_scale_with_the_mesh(&bumpy_sphere(2));
 }

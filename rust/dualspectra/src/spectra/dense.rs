@@ -56,14 +56,31 @@ pub(crate) fn dense_smallest(
     for i in 0..n {
         h[(i, i)] += extra[i];
     }
-    let b = Mat::from_fn(n, n, |i, j| {
+    let mut b = Mat::from_fn(n, n, |i, j| {
         let v = 0.5 * (h[(i, j)] + h[(j, i)]);
         v * inv_sqrt_m[i] * inv_sqrt_m[j]
     });
+    // The decomposition's deflation tests are partly absolute: a pencil of a mesh in
+    // nanometres or in kilometres (entries ~1e±16) loses convergence. Solve the matrix scaled
+    // to unit size by a power of two (exact), and scale the eigenvalues back.
+    let unit = power_of_two_near((0..n).map(|i| b[(i, i)].abs()).fold(0.0, f64::max));
+    for j in 0..n {
+        for i in 0..n {
+            b[(i, j)] /= unit;
+        }
+    }
     let (s, u) = symmetric_eigen(b.as_ref()).map_err(|e| Error::Numerical(format!("dense eigendecomposition failed: {e:?}")))?;
     let mut order: Vec<usize> = (0..n).collect();
     order.sort_by(|&a, &c| s[a].total_cmp(&s[c]));
-    let values: Vec<f64> = order[..k].iter().map(|&i| s[i]).collect();
+    let values: Vec<f64> = order[..k].iter().map(|&i| s[i] * unit).collect();
     let phi = Mat::from_fn(n, k, |r, c| u[(r, order[c])] * inv_sqrt_m[r]);
     Ok((values, phi))
+}
+
+/// The power of two nearest to `x` in ratio (1 for zero or non-finite `x`).
+fn power_of_two_near(x: f64) -> f64 {
+    if !(x > 0.0) || !x.is_finite() {
+        return 1.0;
+    }
+    2f64.powi(x.log2().round() as i32)
 }
