@@ -101,6 +101,38 @@ pub fn plane_cut_starts_from_heights(heights: &[Vec<f64>], mass: &[f64], area: f
         .collect()
 }
 
+/// Plane-cut starts optimised beside the descriptor starts: the ones whose regions hold the
+/// most descriptor votes ([`most_voted_plane_cut_starts`]). On every dev pair the choice among
+/// all 6 was the most voted one or a descriptor start (docs/benchmarks/options.md,
+/// `plane_cuts`).
+pub const PLANE_CUTS_OPTIMISED: usize = 1;
+
+/// The `keep` starts of [`plane_cut_starts_from_heights`] whose regions $R_d$ hold the largest
+/// share of the descriptor `votes` ($\sum_{i \in R_d} c_i$, one vote total per vertex of the
+/// heights), in direction order (ties to the earlier direction); every one when no vote is
+/// positive or `keep` covers them all. The choice among the candidates weighs their vote share,
+/// and an optimised plane cut keeps about the region it started from.
+pub fn most_voted_plane_cut_starts(heights: &[Vec<f64>], mass: &[f64], area: f64, votes: &[f64], keep: usize) -> Vec<Start> {
+    let regions: Vec<Vec<bool>> = heights.iter().map(|h| crate::geometry::area_matched_set(h, mass, area)).collect();
+    let shares: Vec<f64> = regions
+        .iter()
+        .map(|r| r.iter().zip(votes).filter(|(&inside, _)| inside).map(|(_, &v)| v).sum())
+        .collect();
+    let mut kept: Vec<usize> = (0..regions.len()).collect();
+    if keep < regions.len() && shares.iter().any(|&s| s > 0.0) {
+        kept.sort_by(|&a, &b| shares[b].total_cmp(&shares[a]).then(a.cmp(&b)));
+        kept.truncate(keep);
+        kept.sort_unstable();
+    }
+    kept.into_iter()
+        .map(|j| {
+            let mut start = mask_start(&regions[j], &format!("plane{j}"));
+            start.family = "well";
+            start
+        })
+        .collect()
+}
+
 /// Partial vertices [`descriptor_matches`] compares (every `ceil(n / this)`-th).
 pub const DESCRIPTOR_START_SAMPLES: usize = 2000;
 
@@ -671,5 +703,27 @@ mod tests {
         let (a, b) = (xs(&starts[0]), xs(&starts[1]));
         assert!(a.iter().all(|&x| x * a[0] > 0.0) && b.iter().all(|&x| x * b[0] > 0.0) && a[0] * b[0] < 0.0);
         assert!(plane_cut_starts(pts, mass, 0.25 * total, 0).is_empty());
+    }
+
+    /// The plane cut kept is the one whose region holds the votes; without votes, or keeping
+    /// as many as there are, every one is kept as it would be without votes.
+    #[test]
+    fn the_plane_cut_kept_is_the_one_holding_the_votes() {
+        let shape = crate::shape::Shape::new(crate::mesh::generate::icosphere(3).map_positions(|p| [2.0 * p[0], p[1], p[2]]).unwrap());
+        let (pts, mass) = (shape.mesh().vertices(), shape.mass());
+        let area = 0.25 * mass.iter().sum::<f64>();
+        let heights = plane_heights(pts, mass, 6);
+        let all = plane_cut_starts_from_heights(&heights, mass, area);
+        // Votes near the -y end (direction 3 of the frame: -e2, up to the axes' signs).
+        let votes: Vec<f64> = pts.iter().map(|p| if p[1] < -0.8 { 1.0 } else { 0.0 }).collect();
+        let kept = most_voted_plane_cut_starts(&heights, mass, area, &votes, 1);
+        assert_eq!(kept.len(), 1);
+        let inside = |s: &Start| pts.iter().zip(&s.w0).filter(|(_, w)| **w < 0.0).map(|(p, _)| p[1]).sum::<f64>();
+        assert!(inside(&kept[0]) < 0.0 && all.iter().all(|s| inside(s) >= inside(&kept[0])), "kept {}", kept[0].label);
+        let same = |a: &[Start], b: &[Start]| a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.label == y.label && x.w0 == y.w0);
+        let two = most_voted_plane_cut_starts(&heights, mass, area, &votes, 2);
+        assert!(two.len() == 2 && two.iter().any(|s| s.label == kept[0].label));
+        assert!(same(&most_voted_plane_cut_starts(&heights, mass, area, &vec![0.0; pts.len()], 1), &all));
+        assert!(same(&most_voted_plane_cut_starts(&heights, mass, area, &votes, 6), &all));
     }
 }

@@ -265,7 +265,7 @@ pub const OPTIONS: &[OptionSpec] = &[
         name: "plane_cuts",
         label: "Plane-cut starts",
         kind: OptionKind::Int { min: 0, max: crate::alignment::starts::MAX_PLANE_CUTS as u64 },
-        doc: "Starts on the side of a plane with the partial's area, normal to the first plane_cuts of 26 directions of the full shape's principal axes (6: both ways along each axis).",
+        doc: "Starts on the side of a plane with the partial's area, normal to the first plane_cuts of 26 directions of the full shape's principal axes (6: both ways along each axis); beside the descriptor starts, the one holding the most descriptor votes is optimised.",
     },
     OptionSpec {
         name: "scale",

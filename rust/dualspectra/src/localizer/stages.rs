@@ -566,9 +566,16 @@ fn starts_for(level: &OptimisationMesh, target: &Target, initial_regions: &[Vec<
     // (docs/benchmarks/options.md, "Starts for each kind of partial"); they stay when there
     // is no descriptor start. A search's quick localizations leave them out the same way
     // (`plane_cuts_beside_descriptors` false: docs/benchmarks/options.md, "Two-stage search").
+    // Beside descriptor starts, only the plane cut that holds the most descriptor votes is
+    // optimised (docs/benchmarks/options.md, `plane_cuts`).
     if (!target.has_holes && effort.plane_cuts_beside_descriptors) || descriptor_starts.is_empty() {
         let heights = &level.plane_heights[..effort.plane_cuts.min(level.plane_heights.len())];
-        out.extend(starts::plane_cut_starts_from_heights(heights, mass, target.area));
+        out.extend(match &target.matches {
+            Some(matches) if !descriptor_starts.is_empty() => {
+                starts::most_voted_plane_cut_starts(heights, mass, target.area, &matches.votes, starts::PLANE_CUTS_OPTIMISED)
+            }
+            _ => starts::plane_cut_starts_from_heights(heights, mass, target.area),
+        });
     }
     out.extend(descriptor_starts);
     out
