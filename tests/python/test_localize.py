@@ -79,7 +79,7 @@ def test_localize_finds_the_cut(pair: Pair) -> None:
     assert r.score.shape == r.potential.shape == (len(v),)
     print(f"[agreement] localize bumpy3 cut: IoU={iou(r.region, truth):.3f}, cost={r.cost:.3e}, {r.timings}")
     assert iou(r.region, truth) > 0.7
-    assert r.n_starts == len(r.candidates) == 6 + 2, "6 plane cuts by default, 2 descriptor starts"
+    assert r.n_starts == len(r.candidates) == 1 + 2, "the most voted of the 6 plane cuts, 2 descriptor starts"
     assert 0 <= r.selected_start < r.n_starts
     chosen = r.candidates[r.selected_start]
     assert np.array_equal(chosen.region, r.region) and chosen.cost == r.cost
@@ -260,9 +260,10 @@ def test_plane_cuts_set_the_plane_starts(pair: Pair) -> None:
     loc = ds.Localizer(v, f, **dict(QUICK, plane_cuts=0))
     r = loc.locate(pv, pf)
     assert r.n_starts == 2 and not any(c.label.startswith("plane") for c in r.candidates)
+    # Of the 5 plane cuts, the one holding the most descriptor votes is optimised.
     r = ds.localize(v, f, pv, pf, **dict(QUICK, plane_cuts=5))
-    assert r.n_starts == 5 + 2
-    assert sum(c.label.startswith("plane") for c in r.candidates) == 5
+    assert r.n_starts == 1 + 2
+    assert [c.label for c in r.candidates if c.label.startswith("plane")] in [[f"plane{j}"] for j in range(5)]
 
 
 def test_progress_false_cancels(pair: Pair, localizer: ds.Localizer) -> None:

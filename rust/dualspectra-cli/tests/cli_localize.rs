@@ -87,7 +87,7 @@ fn localize_writes_the_json_schema_and_a_ply() {
     assert!(v["seconds"].as_f64().unwrap() >= 0.0);
     assert_eq!(v["options"]["mode"], "dual");
     assert_eq!(v["options"]["k"], 6);
-    assert_eq!(v["n_starts"], 8, "6 plane cuts + 2 descriptor starts");
+    assert_eq!(v["n_starts"], 3, "the most voted of the 6 plane cuts + 2 descriptor starts");
     assert!(v["timings"]["total"].as_f64().is_some());
     assert_eq!(v["eigenvalues_regular"].as_array().unwrap().len(), 6);
     assert_eq!(v["target_si"].as_array().unwrap().len(), 6);
@@ -145,15 +145,15 @@ fn localize_usage_error(args: &[&str]) -> String {
 #[test]
 fn every_library_option_is_a_flag_and_reaches_the_library() {
     // The flags are built from the library's option table: each option is recorded in the JSON
-    // with the value given; --plane-cuts changes the number of starts (3 plane cuts + 2
-    // descriptor starts); the older spelling --iterations still works.
+    // with the value given; --plane-cuts changes the number of starts (none: the 2 descriptor
+    // starts alone); the older spelling --iterations still works.
     let v = localize_demo_json(
         "localize-options",
-        &["--k", "6", "--iterations", "3", "--plane-cuts", "3", "--mode", "lbo", "--alpha", "0.5", "--threads", "2"],
+        &["--k", "6", "--iterations", "3", "--plane-cuts", "0", "--mode", "lbo", "--alpha", "0.5", "--threads", "2"],
     );
-    assert_eq!(v["n_starts"], 5);
+    assert_eq!(v["n_starts"], 2);
     let o = &v["options"];
-    assert_eq!((o["k"].as_u64(), o["plane_cuts"].as_u64(), o["max_iterations"].as_u64()), (Some(6), Some(3), Some(3)));
+    assert_eq!((o["k"].as_u64(), o["plane_cuts"].as_u64(), o["max_iterations"].as_u64()), (Some(6), Some(0), Some(3)));
     assert_eq!((o["mode"].as_str(), o["alpha"].as_f64(), o["threads"].as_u64()), (Some("lbo"), Some(0.5), Some(2)));
     assert!(v["eigenvalues_si"].as_array().unwrap().is_empty(), "lbo mode matches regular eigenvalues only");
     let help = String::from_utf8_lossy(&bin().args(["localize", "--help"]).output().unwrap().stdout).into_owned();
