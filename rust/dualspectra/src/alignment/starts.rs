@@ -107,10 +107,10 @@ pub fn plane_cut_starts_from_heights(heights: &[Vec<f64>], mass: &[f64], area: f
 /// `plane_cuts`).
 pub const PLANE_CUTS_OPTIMISED: usize = 1;
 
-/// The `keep` starts of [`plane_cut_starts_from_heights`] whose regions $R_d$ hold the largest
-/// share of the descriptor `votes` ($\sum_{i \in R_d} c_i$, one vote total per vertex of the
-/// heights), in direction order (ties to the earlier direction); every one when no vote is
-/// positive or `keep` covers them all. The choice among the candidates weighs their vote share,
+/// The `keep` starts of [`plane_cut_starts_from_heights`] whose regions $R_d$ hold the most
+/// descriptor votes, $\sum_{i \in R_d} c_i$ (`votes`: $c_i$ per vertex, as the heights; those
+/// of [`DescriptorMatches::votes`]), in direction order (ties to the earlier direction); every
+/// one when no vote is positive or `keep` covers them all. The choice among the candidates weighs their vote share,
 /// and an optimised plane cut keeps about the region it started from.
 pub fn most_voted_plane_cut_starts(heights: &[Vec<f64>], mass: &[f64], area: f64, votes: &[f64], keep: usize) -> Vec<Start> {
     let regions: Vec<Vec<bool>> = heights.iter().map(|h| crate::geometry::area_matched_set(h, mass, area)).collect();
@@ -714,7 +714,8 @@ mod tests {
         let area = 0.25 * mass.iter().sum::<f64>();
         let heights = plane_heights(pts, mass, 6);
         let all = plane_cut_starts_from_heights(&heights, mass, area);
-        // Votes near the -y end (direction 3 of the frame: -e2, up to the axes' signs).
+        // Votes at the -y end (y and z are axes of equal variance: whichever plane cuts the
+        // frame gives, the kept one is the one reaching furthest towards -y).
         let votes: Vec<f64> = pts.iter().map(|p| if p[1] < -0.8 { 1.0 } else { 0.0 }).collect();
         let kept = most_voted_plane_cut_starts(&heights, mass, area, &votes, 1);
         assert_eq!(kept.len(), 1);
