@@ -92,13 +92,15 @@ pub fn plane_cut_starts_from_heights(heights: &[Vec<f64>], mass: &[f64], area: f
     heights
         .iter()
         .enumerate()
-        .map(|(j, height)| {
-            let region = crate::geometry::area_matched_set(height, mass, area);
-            let mut start = mask_start(&region, &format!("plane{j}"));
-            start.family = "well";
-            start
-        })
+        .map(|(j, height)| plane_cut_start(j, &crate::geometry::area_matched_set(height, mass, area)))
         .collect()
+}
+
+/// The start of plane-cut direction `j` from its area-matched `region` (label `plane{j}`).
+fn plane_cut_start(j: usize, region: &[bool]) -> Start {
+    let mut start = mask_start(region, &format!("plane{j}"));
+    start.family = "well";
+    start
 }
 
 /// Plane-cut starts optimised beside the descriptor starts: the ones whose regions hold the
@@ -110,8 +112,8 @@ pub const PLANE_CUTS_OPTIMISED: usize = 1;
 /// The `keep` starts of [`plane_cut_starts_from_heights`] whose regions $R_d$ hold the most
 /// descriptor votes, $\sum_{i \in R_d} c_i$ (`votes`: $c_i$ per vertex, as the heights; those
 /// of [`DescriptorMatches::votes`]), in direction order (ties to the earlier direction); every
-/// one when no vote is positive or `keep` covers them all. The choice among the candidates weighs their vote share,
-/// and an optimised plane cut keeps about the region it started from.
+/// one when no vote is positive or `keep` covers them all. The choice among the candidates
+/// weighs their vote share, and an optimised plane cut keeps about the region it started from.
 pub fn most_voted_plane_cut_starts(heights: &[Vec<f64>], mass: &[f64], area: f64, votes: &[f64], keep: usize) -> Vec<Start> {
     let regions: Vec<Vec<bool>> = heights.iter().map(|h| crate::geometry::area_matched_set(h, mass, area)).collect();
     let shares: Vec<f64> = regions
@@ -124,13 +126,7 @@ pub fn most_voted_plane_cut_starts(heights: &[Vec<f64>], mass: &[f64], area: f64
         kept.truncate(keep);
         kept.sort_unstable();
     }
-    kept.into_iter()
-        .map(|j| {
-            let mut start = mask_start(&regions[j], &format!("plane{j}"));
-            start.family = "well";
-            start
-        })
-        .collect()
+    kept.into_iter().map(|j| plane_cut_start(j, &regions[j])).collect()
 }
 
 /// Partial vertices [`descriptor_matches`] compares (every `ceil(n / this)`-th).
